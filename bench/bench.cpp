@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+#include "bench/bench.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace infocus::bench {
+
+void runAll(const BenchOptions& options, const RowSink& sink) {
+    // The registry of benchmarks, in output order.
+    benchMjpeg(options, sink);
+}
+
+double medianMs(const std::function<void()>& fn, double budgetS) {
+    using Clock = std::chrono::steady_clock;
+    fn();  // warm-up: caches, page faults, lazy initialisation
+    std::vector<double> times;
+    const auto start = Clock::now();
+    while (times.size() < 5 ||
+           std::chrono::duration<double>(Clock::now() - start).count() < budgetS) {
+        const auto t0 = Clock::now();
+        fn();
+        times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        if (times.size() >= 100000) break;
+    }
+    // The median resists the other core's noise better than the mean.
+    std::nth_element(times.begin(), times.begin() + times.size() / 2, times.end());
+    return times[times.size() / 2];
+}
+
+}  // namespace infocus::bench

@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: MIT
+/// @file image.h
+/// Single-channel images (luma) shared by the metrics, blur and synthesis code.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace infocus {
+
+/// A read-only single-channel image. Pixels are borrowed; @ref storage keeps them alive when the
+/// image owns them (a view into a frame keeps the frame's storage instead).
+template <typename T>
+struct ImageView {
+    const T* data = nullptr;
+    int width = 0;
+    int height = 0;
+    ptrdiff_t stride = 0;  ///< elements (not bytes) from one row to the next
+    std::shared_ptr<const void> storage;
+
+    /// Pointer to the first pixel of row @p y.
+    const T* row(int y) const { return data + static_cast<ptrdiff_t>(y) * stride; }
+    /// Pixel at column @p x, row @p y (no bounds check).
+    T at(int x, int y) const { return row(y)[x]; }
+    bool empty() const { return data == nullptr || width <= 0 || height <= 0; }
+};
+
+/// 8-bit luma, 0..255.
+using Luma8 = ImageView<uint8_t>;
+/// 16-bit luma scaled to the full 0..65535 range whatever the source bit depth.
+using Luma16 = ImageView<uint16_t>;
+
+/// A writable image that owns its pixels; view() hands out a read-only view sharing them.
+template <typename T>
+class Image {
+public:
+    Image() = default;
+    /// Allocates @p width × @p height pixels set to @p fill, tightly packed.
+    Image(int width, int height, T fill = T{})
+        : width_(width),
+          height_(height),
+          pixels_(std::make_shared<std::vector<T>>(static_cast<size_t>(width) * height, fill)) {}
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    T* row(int y) { return pixels_->data() + static_cast<size_t>(y) * width_; }
+    const T* row(int y) const { return pixels_->data() + static_cast<size_t>(y) * width_; }
+    T& at(int x, int y) { return row(y)[x]; }
+    T at(int x, int y) const { return row(y)[x]; }
+    T* data() { return pixels_ ? pixels_->data() : nullptr; }
+    const T* data() const { return pixels_ ? pixels_->data() : nullptr; }
+
+    /// A read-only view sharing (and keeping alive) these pixels.
+    ImageView<T> view() const { return ImageView<T>{data(), width_, height_, width_, pixels_}; }
+
+private:
+    int width_ = 0;
+    int height_ = 0;
+    std::shared_ptr<std::vector<T>> pixels_;
+};
+
+}  // namespace infocus

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs every test. Ends with "N passed, N failed".
+#   scripts/test.sh              unit, integration, CLI and style tests (build/)
+#   scripts/test.sh --sanitize   the same under AddressSanitizer + UBSan (build-asan/)
+# Environment: INFOCUS_MESON_OPTS adds meson options (e.g. "-Dv4l2=disabled -Dlibcamera=disabled").
+set -uo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+cd "$here" || exit 1
+
+builddir=build
+opts=(${INFOCUS_MESON_OPTS:-})
+if [[ "${1:-}" == "--sanitize" ]]; then
+	builddir=build-asan
+	# lundef=false: the sanitizer runtimes resolve symbols at load time.
+	opts+=(-Db_sanitize=address,undefined -Db_lundef=false -Dbuildtype=debugoptimized)
+	export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+	export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+fi
+
+scripts/install-deps.sh || exit 1
+if [[ ! -f "$builddir/build.ninja" ]]; then
+	meson setup "$builddir" "${opts[@]}" >/dev/null || { echo "meson setup failed" >&2; exit 1; }
+elif [[ ${#opts[@]} -gt 0 ]]; then
+	meson configure "$builddir" "${opts[@]}" >/dev/null || exit 1
+fi
+ninja -C "$builddir" || { echo "0 passed, 1 failed"; exit 1; }
+
+meson test -C "$builddir" --num-processes 2 --print-errorlogs
+status=$?
+
+# One closing line from meson's machine-readable log.
+read -r passed failed skipped < <(python3 - "$builddir/meson-logs/testlog.json" <<'PY'
+import json, sys
+p = f = s = 0
+for line in open(sys.argv[1]):
+    r = json.loads(line)["result"]
+    if r in ("OK", "EXPECTEDFAIL"):
+        p += 1
+    elif r == "SKIP":
+        s += 1
+    else:
+        f += 1
+print(p, f, s)
+PY
+)
+if [[ "${skipped:-0}" -gt 0 ]]; then
+	echo "${passed:-0} passed, ${failed:-1} failed, ${skipped} skipped"
+else
+	echo "${passed:-0} passed, ${failed:-1} failed"
+fi
+exit $status

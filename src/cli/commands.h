@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+/// @file commands.h
+/// The CLI's subcommands. Each adds itself to the app and returns the function that runs it once
+/// parsing succeeded; commands.cpp lists them all in one place.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "infocus/error.h"
+
+namespace infocus::cli {
+
+/// A registered subcommand and the code that runs it; run() returns the process exit status.
+struct Command {
+    CLI::App* app = nullptr;
+    std::function<int()> run;
+};
+
+/// Adds every subcommand to @p app (the single registry of commands).
+std::vector<Command> registerCommands(CLI::App& app);
+
+/// Exit status for usage errors (bad options or values).
+inline constexpr int kExitUsage = 2;
+/// Exit status for runtime failures (device, file, data).
+inline constexpr int kExitFailure = 1;
+
+/// Prints "infocus COMMAND: MESSAGE" on stderr and returns the exit status for @p error's kind.
+int reportError(const std::string& command, const Error& error);
+
+/// Prints a usage error for @p command on stderr and returns kExitUsage.
+int usageError(const std::string& command, const std::string& message);
+
+// One entry point per command file (src/cli/cmd_NAME.cpp).
+Command addBenchCommand(CLI::App& app);
+
+}  // namespace infocus::cli

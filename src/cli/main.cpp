@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+// The infocus executable: parses the command line and runs one subcommand. All work is in the
+// library; this file only decides the exit status.
+#include <iostream>
+#include <string>
+
+#include "commands.h"
+#include "infocus_config.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "infocus: how sharp each part of a camera image is, how wide its blur is, and where the "
+        "lens is focused.",
+        "infocus"};
+    app.set_version_flag("--version", std::string("infocus ") + INFOCUS_VERSION);
+    app.require_subcommand(1);
+    app.footer("Run 'infocus COMMAND --help' for a command's options.");
+
+    const auto commands = infocus::cli::registerCommands(app);
+    // CLI11 would only say "a subcommand is required" for a misspelt command: name it.
+    if (argc > 1 && argv[1][0] != '-') {
+        bool known = false;
+        std::string names;
+        for (const auto& c : commands) {
+            known = known || c.app->get_name() == argv[1];
+            names += (names.empty() ? "" : ", ") + c.app->get_name();
+        }
+        if (!known) {
+            std::cerr << "infocus: unknown command '" << argv[1] << "'; the commands are: " << names
+                      << "\nRun 'infocus --help' for what each does.\n";
+            return infocus::cli::kExitUsage;
+        }
+    }
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        app.exit(e);  // prints the message and the --help hint
+        return infocus::cli::kExitUsage;
+    }
+    for (const auto& c : commands)
+        if (c.app->parsed()) return c.run();
+    return infocus::cli::kExitUsage;
+}

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# The command line's contract: help and version succeed, usage errors exit 2 with a message.
+# Usage: test_cli.sh PATH_TO_INFOCUS
+set -u
+bin=${1:?path to infocus}
+pass=0 fail=0
+expect() { # expect STATUS PATTERN -- ARGS...
+	local want=$1 pat=$2
+	shift 3
+	local out st
+	out=$("$bin" "$@" 2>&1)
+	st=$?
+	if [[ $st -eq $want ]] && grep -qE -- "$pat" <<<"$out"; then
+		pass=$((pass + 1))
+	else
+		echo "FAIL: infocus $* -> status $st (want $want), output:"
+		echo "$out" | head -5
+		fail=$((fail + 1))
+	fi
+}
+expect 0 'Usage|usage' -- --help
+expect 0 '^infocus [0-9]+\.[0-9]+' -- --version
+expect 2 'subcommand' --
+expect 2 'nonsense' -- nonsense
+expect 2 'not expected|--bogus' -- bench --bogus
+expect 2 'seconds' -- bench --seconds -1
+echo "cli: $pass passed, $fail failed"
+[[ $fail -eq 0 ]]
