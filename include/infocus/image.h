@@ -27,6 +27,15 @@ struct ImageView {
     bool empty() const { return data == nullptr || width <= 0 || height <= 0; }
 };
 
+/// An axis-aligned rectangle of pixels: columns x..x+w-1, rows y..y+h-1.
+struct Rect {
+    int x = 0;
+    int y = 0;
+    int w = 0;
+    int h = 0;
+    bool operator==(const Rect&) const = default;
+};
+
 /// 8-bit luma, 0..255.
 using Luma8 = ImageView<uint8_t>;
 /// 16-bit luma scaled to the full 0..65535 range whatever the source bit depth.

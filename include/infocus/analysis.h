@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+/// @file analysis.h
+/// Per-frame analysis: sharpness and blur width for each region of a grid or ROI list, and its
+/// JSONL form (the `infocus analyze` contract in DESIGN.md).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "infocus/error.h"
+#include "infocus/frame.h"
+#include "infocus/image.h"
+
+namespace infocus {
+
+/// Measurements of one region of one frame.
+struct RegionResult {
+    int col = 0;             ///< grid column (ROI index for explicit ROIs, whole frame: 0)
+    int row = 0;             ///< grid row (0 for ROIs and the whole frame)
+    Rect rect;               ///< the region in pixels
+    double sharpness = 0.0;  ///< focus measure of the chosen operator (normalised)
+    std::optional<double> edgeWidthPx;  ///< 10–90 % edge rise, pixels
+    std::optional<double> blurSigmaPx;  ///< Gaussian-equivalent σ, pixels
+    std::optional<double> blurWidthPx;  ///< disc-equivalent diameter (the lecture's ΔX_i), px
+    double confidence = 0.0;            ///< 0–1 trust in the blur fields; 0 when they are null
+};
+
+/// Measurements of one frame.
+struct FrameAnalysis {
+    uint64_t frame = 0;  ///< index of the frame in the analysed stream
+    int64_t timestampNs = 0;
+    std::optional<LensPosition> lens;
+    int width = 0;
+    int height = 0;
+    std::vector<RegionResult> regions;
+};
+
+/// Serialises @p a as one JSONL line (no trailing newline) with the fields of DESIGN.md.
+std::string toJsonLine(const FrameAnalysis& a);
+
+/// Parses one JSONL line written by toJsonLine (or by `infocus analyze`). Fails with
+/// ErrorKind::Corrupt naming the missing or malformed field.
+Result<FrameAnalysis> parseJsonLine(std::string_view line);
+
+}  // namespace infocus
