@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -38,6 +39,23 @@ struct FrameAnalysis {
     int height = 0;
     std::vector<RegionResult> regions;
 };
+
+/// What to measure on each frame.
+struct AnalysisOptions {
+    int cols = 16;            ///< grid columns (ignored when @ref rois is not empty)
+    int rows = 9;             ///< grid rows
+    std::vector<Rect> rois;   ///< explicit regions instead of the grid
+    std::string metric;       ///< sharpness operator name; empty: the default operator
+    bool measureBlur = true;  ///< also fill the blur fields (edge width, σ, disc diameter)
+};
+
+/// Receives each analysed frame; a failed Status stops the analysis and is returned.
+using AnalysisSink = std::function<Status(const FrameAnalysis&)>;
+
+/// Opens @p source (a source string, see source.h) and analyses up to @p maxFrames frames
+/// (0: until the source ends), handing each result to @p sink in order.
+Status analyzeSource(std::string_view source, const AnalysisOptions& options, uint64_t maxFrames,
+                     const AnalysisSink& sink);
 
 /// Serialises @p a as one JSONL line (no trailing newline) with the fields of DESIGN.md.
 std::string toJsonLine(const FrameAnalysis& a);
