@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: MIT
+/// @file sim.h
+/// The simulated camera `sim:`: textured scenes at known depths rendered through a thin lens
+/// with the uniform-disc defocus PSF of the lecture, and its ground truth (true depth, true blur
+/// width, true in-focus distance) for tests that check measurements against it.
+///
+/// Source string options (all optional):
+///   scene=plane|steps|tilted|edges   what is in front of the camera (default plane)
+///   focus=1.2m | focus=0.8dpt | focus=inf   in-focus distance from the lens, or dioptres
+///   distance=1m          plane/tilted/edges: distance of the plane (on the optical axis)
+///   distances=0.3m:0.6m:1.2m:2.4m   steps: the planes' distances, left to right
+///   tilt=30 axis=x|y     tilted: angle in degrees about the image's x (depth varies down the
+///                        image) or y axis (depth varies across it)
+///   angle=5              edges: slant of the chart's squares in degrees
+///   size=1280x720 fps=30 noise=0.01 seed=1 format=GREY|YUYV pace=camera|fast
+///   focal=4.74mm fnumber=1.8 pitch=1.4um sensor=4608x2592   the lens and full-resolution sensor
+/// The default lens is a Raspberry Pi Camera Module 3. The output image is the full sensor scaled
+/// to `size`, so the pixel pitch is pitch × sensor width / output width.
+///
+/// Model limits (documented simplifications): the texture is fixed in image space (no change of
+/// magnification with focus or depth); each output pixel is blurred with the disc of its own
+/// depth (a gather), which is exact inside a constant-depth region and approximate within one
+/// blur radius of a depth step; disc diameters are rendered in steps of kSimDiameterStepPx and
+/// capped at kSimMaxDiameterPx.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "infocus/error.h"
+#include "infocus/frame.h"
+#include "infocus/image.h"
+
+namespace infocus {
+
+/// Rendered disc diameters are quantised to this step (pixels).
+inline constexpr double kSimDiameterStepPx = 1.0 / 16.0;
+/// Largest disc diameter rendered (pixels); larger blur is clipped to it.
+inline constexpr double kSimMaxDiameterPx = 64.0;
+
+/// A thin lens in front of a sensor.
+struct SimLens {
+    double focalLengthM = 4.74e-3;      ///< f
+    double fNumber = 1.8;               ///< N
+    double sensorPixelPitchM = 1.4e-6;  ///< pixel pitch at full sensor resolution
+    Size sensorSize{4608, 2592};        ///< full sensor resolution, pixels
+
+    /// Aperture diameter A = f/N, metres.
+    double apertureM() const { return focalLengthM / fNumber; }
+    /// Pixel pitch of an image of @p widthPx covering the whole sensor, metres.
+    double pixelPitchM(int widthPx) const { return sensorPixelPitchM * sensorSize.width / widthPx; }
+};
+
+/// Sensor distance z_s behind the lens that focuses at @p focusDioptres (1/u, from the lens):
+/// 1/z_s = 1/f − 1/u. nullopt when the focus is at or inside the focal length.
+std::optional<double> simSensorDistanceM(const SimLens& lens, double focusDioptres);
+
+/// Lecture formula: disc diameter ΔX_i = A·|z_s(1/f − 1/z_o) − 1| on the sensor (metres) of a
+/// point at @p depthM from the lens. nullopt where simSensorDistanceM has no answer.
+std::optional<double> simBlurDiameterM(const SimLens& lens, double focusDioptres, double depthM);
+
+/// The scenes of the simulated camera.
+enum class SimScene { Plane, Steps, Tilted, Edges };
+
+/// Axis a tilted plane turns about.
+enum class SimAxis { X, Y };
+
+/// Everything that defines a simulated camera.
+struct SimConfig {
+    SimScene scene = SimScene::Plane;
+    SimLens lens;
+    double focusDioptres = 1.0 / 1.2;        ///< in-focus distance 1.2 m
+    std::vector<double> distancesM{1.0};     ///< one per plane; steps: several
+    double tiltDeg = 30.0;                   ///< tilted scene
+    SimAxis tiltAxis = SimAxis::X;           ///< tilted scene
+    double edgeAngleDeg = 5.0;               ///< edges scene
+    Size size{1280, 720};                    ///< output resolution
+    double fps = 30.0;                       ///< frame rate (timestamps and pacing)
+    double noise = 0.0;                      ///< Gaussian noise σ, fraction of full scale
+    uint64_t seed = 1;                       ///< texture and noise seed
+    PixelFormat format = PixelFormat::GREY;  ///< GREY or YUYV (neutral chroma)
+    bool paced = true;                       ///< deliver at fps like a camera; false: at once
+};
+
+/// Parses sim: options (listed above) into a config. Usage error naming the bad option.
+Result<SimConfig> parseSimOptions(const std::map<std::string, std::string>& options);
+
+/// A region of the image with a single (or central) depth and its true blur.
+struct SimRegion {
+    Rect rect;
+    double depthM = 0.0;          ///< depth at the region's centre, metres from the lens
+    double blurDiameterPx = 0.0;  ///< lecture ΔX_i at that depth, in output pixels (uncapped)
+};
+
+/// Renders a scene; holds the ground truth. Deterministic for a given config.
+class SimRenderer {
+public:
+    /// Builds the scene (texture rendered once). Usage error for an invalid config.
+    static Result<std::unique_ptr<SimRenderer>> create(const SimConfig& config);
+    ~SimRenderer();
+
+    const SimConfig& config() const { return config_; }
+    /// Depth of the scene point seen by output pixel (x, y), metres from the lens.
+    double depthAtM(int x, int y) const;
+    /// True blur diameter (lecture ΔX_i) at pixel (x, y) for @p focusDioptres, output pixels.
+    double blurDiameterPxAt(int x, int y, double focusDioptres) const;
+    /// The diameter the renderer actually uses at (x, y): blurDiameterPxAt quantised to
+    /// kSimDiameterStepPx and capped at kSimMaxDiameterPx.
+    double renderedDiameterPxAt(int x, int y, double focusDioptres) const;
+    /// The scene's regions: plane/edges one, steps one per plane, tilted a 16×9 grid.
+    std::vector<SimRegion> regions(double focusDioptres) const;
+    /// Distance from the lens that is in focus at @p focusDioptres (infinity for 0).
+    static double inFocusDistanceM(double focusDioptres);
+    /// The sharp (unblurred) scene as seen by the output pixels, grey levels 0..255.
+    Image<float> sharpImage() const;
+    /// Renders the scene blurred for @p focusDioptres, without noise, grey levels 0..255.
+    /// About 10–30 ms at 720p depending on the blur; callers cache per focus setting.
+    Image<float> render(double focusDioptres);
+
+private:
+    SimRenderer() = default;
+    struct Impl;
+    SimConfig config_;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace infocus

@@ -1,0 +1,463 @@
+// SPDX-License-Identifier: MIT
+// Recording writer and reader (format in recording_format.h).
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/uio.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <dirent.h>
+#include <cerrno>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <sstream>
+
+#include "infocus/recording.h"
+#include "infocus_config.h"
+#include "replay/recording_format.h"
+
+namespace infocus {
+
+using replay::RecordHeader;
+
+namespace {
+
+std::string errnoText(int e) {
+    return std::strerror(e);
+}
+
+bool isDirectory(const std::string& path) {
+    struct stat st;
+    return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+bool directoryIsEmpty(const std::string& path) {
+    DIR* d = ::opendir(path.c_str());
+    if (!d) return false;
+    bool empty = true;
+    while (dirent* e = ::readdir(d)) {
+        if (std::strcmp(e->d_name, ".") != 0 && std::strcmp(e->d_name, "..") != 0) {
+            empty = false;
+            break;
+        }
+    }
+    ::closedir(d);
+    return empty;
+}
+
+// Writes all of @p size bytes, retrying after signals and short writes.
+bool writeAll(int fd, const void* data, size_t size) {
+    const auto* p = static_cast<const uint8_t*>(data);
+    while (size > 0) {
+        const ssize_t n = ::write(fd, p, size);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            return false;
+        }
+        p += n;
+        size -= static_cast<size_t>(n);
+    }
+    return true;
+}
+
+// Reads up to @p size bytes at @p offset; returns the count read (short at end of file) or -1.
+ssize_t readAt(int fd, void* data, size_t size, uint64_t offset) {
+    auto* p = static_cast<uint8_t*>(data);
+    size_t done = 0;
+    while (done < size) {
+        const ssize_t n = ::pread(fd, p + done, size - done, static_cast<off_t>(offset + done));
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            return -1;
+        }
+        if (n == 0) break;
+        done += static_cast<size_t>(n);
+    }
+    return static_cast<ssize_t>(done);
+}
+
+uint32_t headerCrc(const RecordHeader& h) {
+    return replay::crc32(&h, offsetof(RecordHeader, headerCrc));
+}
+
+nlohmann::ordered_json headerToJson(const RecordingHeader& h) {
+    nlohmann::ordered_json j;
+    j["format"] = "infocus-recording";
+    j["format_version"] = replay::kRecordingFormatVersion;
+    j["infocus_version"] = INFOCUS_VERSION;
+    j["source"] = h.sourceString;
+    j["device"] = h.device;
+    j["driver"] = h.driver;
+    j["pixel_format"] = pixelFormatName(h.format);
+    j["width_px"] = h.size.width;
+    j["height_px"] = h.size.height;
+    j["fps"] = h.fps;
+    j["created_unix_s"] = h.createdUnixS;
+    if (h.focus) {
+        j["focus_control"] = {{"min", h.focus->min},
+                              {"max", h.focus->max},
+                              {"step", h.focus->step},
+                              {"default", h.focus->defaultValue},
+                              {"unit", h.focus->unit}};
+    } else {
+        j["focus_control"] = nullptr;
+    }
+    j["frames_file"] = replay::kFramesFileName;
+    return j;
+}
+
+Result<RecordingHeader> headerFromJson(const std::string& path, const std::string& text) {
+    const auto bad = [&](const std::string& why) -> Error {
+        return makeError(ErrorKind::Corrupt,
+                         "recording header " + path + ": " + why +
+                             "; the recording is damaged or not an infocus recording");
+    };
+    nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+    if (j.is_discarded() || !j.is_object()) return bad("not valid JSON");
+    if (j.value("format", std::string()) != "infocus-recording")
+        return bad("missing \"format\": \"infocus-recording\"");
+    if (!j.contains("format_version") || !j["format_version"].is_number_integer())
+        return bad("missing integer \"format_version\"");
+    RecordingHeader h;
+    h.formatVersion = j["format_version"].get<int>();
+    h.infocusVersion = j.value("infocus_version", std::string("unknown"));
+    if (h.formatVersion > replay::kRecordingFormatVersion)
+        return makeError(ErrorKind::Unsupported,
+                         "recording " + path + " uses format version " +
+                             std::to_string(h.formatVersion) + " (written by infocus " +
+                             h.infocusVersion +
+                             "); this infocus (" INFOCUS_VERSION ") reads up to version " +
+                             std::to_string(replay::kRecordingFormatVersion) +
+                             ": use a newer infocus to replay it");
+    if (h.formatVersion < 1) return bad("format_version must be at least 1");
+    try {
+        h.sourceString = j.value("source", std::string());
+        h.device = j.value("device", std::string());
+        h.driver = j.value("driver", std::string());
+        auto fmt = parsePixelFormat(j.at("pixel_format").get<std::string>());
+        if (!fmt) return bad("unknown pixel_format");
+        h.format = *fmt;
+        h.size = {j.at("width_px").get<int>(), j.at("height_px").get<int>()};
+        h.fps = j.value("fps", 0.0);
+        h.createdUnixS = j.value("created_unix_s", int64_t{0});
+        if (j.contains("focus_control") && j["focus_control"].is_object()) {
+            const auto& f = j["focus_control"];
+            FocusRange r;
+            r.min = f.at("min").get<double>();
+            r.max = f.at("max").get<double>();
+            r.step = f.at("step").get<double>();
+            r.defaultValue = f.at("default").get<double>();
+            r.unit = f.at("unit").get<std::string>();
+            h.focus = r;
+        }
+    } catch (const nlohmann::json::exception& e) {
+        return bad(std::string("field missing or of the wrong type (") + e.what() + ")");
+    }
+    return h;
+}
+
+}  // namespace
+
+RecordingHeader makeRecordingHeader(const SourceInfo& info, const FocusControl* focus) {
+    RecordingHeader h;
+    h.formatVersion = replay::kRecordingFormatVersion;
+    h.infocusVersion = INFOCUS_VERSION;
+    h.sourceString = info.sourceString;
+    h.device = info.device;
+    h.driver = info.driver;
+    h.format = info.format;
+    h.size = info.size;
+    h.fps = info.fps;
+    if (focus) h.focus = focus->range();
+    h.createdUnixS = static_cast<int64_t>(std::time(nullptr));
+    return h;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writer
+
+Result<std::unique_ptr<RecordingWriter>> RecordingWriter::create(const std::string& dir,
+                                                                 const RecordingHeader& header) {
+    if (isDirectory(dir)) {
+        if (!directoryIsEmpty(dir))
+            return makeError(ErrorKind::Usage, "output directory " + dir +
+                                                   " is not empty; choose a new directory or "
+                                                   "remove the old recording first");
+    } else if (::mkdir(dir.c_str(), 0777) != 0) {
+        const int e = errno;
+        return makeError(ErrorKind::Io,
+                         "cannot create recording directory " + dir + ": " + errnoText(e) +
+                             "; check that the parent directory exists and is writable",
+                         e);
+    }
+    // The header goes through a temporary file and rename() so it is never half written.
+    const std::string headerPath = dir + "/" + replay::kHeaderFileName;
+    const std::string tmpPath = headerPath + ".tmp";
+    {
+        const std::string text = headerToJson(header).dump(2) + "\n";
+        const int fd = ::open(tmpPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+        if (fd < 0 || !writeAll(fd, text.data(), text.size()) || ::fsync(fd) != 0) {
+            const int e = errno;
+            if (fd >= 0) ::close(fd);
+            return makeError(ErrorKind::Io, "cannot write " + tmpPath + ": " + errnoText(e), e);
+        }
+        ::close(fd);
+        if (::rename(tmpPath.c_str(), headerPath.c_str()) != 0) {
+            const int e = errno;
+            return makeError(ErrorKind::Io, "cannot rename " + tmpPath + ": " + errnoText(e), e);
+        }
+    }
+    const std::string framesPath = dir + "/" + replay::kFramesFileName;
+    const int fd =
+        ::open(framesPath.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        const int e = errno;
+        return makeError(ErrorKind::Io, "cannot create " + framesPath + ": " + errnoText(e), e);
+    }
+    return std::unique_ptr<RecordingWriter>(new RecordingWriter(framesPath, fd));
+}
+
+RecordingWriter::~RecordingWriter() {
+    (void)close();
+}
+
+Status RecordingWriter::append(const Frame& frame) {
+    if (fd_ < 0)
+        return makeError(ErrorKind::Usage, "recording " + path_ + " is closed; cannot append");
+    if (frame.numPlanes < 1 || frame.numPlanes > 3)
+        return makeError(ErrorKind::Usage, "frame " + std::to_string(frame.sequence) + " has " +
+                                               std::to_string(frame.numPlanes) +
+                                               " planes; a recorded frame needs 1 to 3");
+    RecordHeader h{};
+    h.magic = replay::kRecordMagic;
+    h.headerBytes = sizeof(RecordHeader);
+    h.sequence = frame.sequence;
+    h.timestampNs = frame.timestampNs;
+    h.pixelFormat = static_cast<uint32_t>(frame.format);
+    h.width = frame.size.width;
+    h.height = frame.size.height;
+    h.numPlanes = frame.numPlanes;
+    uint32_t crc = 0;
+    iovec iov[4];
+    iov[0] = {&h, sizeof h};
+    for (unsigned i = 0; i < frame.numPlanes; ++i) {
+        const Plane& p = frame.planes[i];
+        if (p.size > UINT32_MAX)
+            return makeError(ErrorKind::Usage, "frame plane of " + std::to_string(p.size) +
+                                                   " bytes is too large to record (max 4 GiB)");
+        h.stride[i] = static_cast<uint32_t>(p.stride);
+        h.planeBytes[i] = static_cast<uint32_t>(p.size);
+        h.payloadBytes += p.size;
+        crc = replay::crc32(p.data, p.size, crc);
+        iov[i + 1] = {const_cast<uint8_t*>(p.data), p.size};
+    }
+    h.payloadCrc = crc;
+    if (lastSequence_ && frame.sequence != *lastSequence_ + 1)
+        h.flags |= replay::kFlagDroppedBefore;
+    if (frame.lens) {
+        h.flags |= replay::kFlagHasLens;
+        h.lensValue = frame.lens->value;
+        std::strncpy(h.lensUnit, frame.lens->unit.c_str(), sizeof h.lensUnit - 1);
+        if (frame.lens->dioptres) {
+            h.flags |= replay::kFlagHasLensDioptres;
+            h.lensDioptres = *frame.lens->dioptres;
+        }
+    }
+    if (frame.exposureS) {
+        h.flags |= replay::kFlagHasExposure;
+        h.exposureS = *frame.exposureS;
+    }
+    h.headerCrc = headerCrc(h);
+
+    // One writev() for the whole record: a kill leaves either the record or a torn tail that the
+    // reader detects by length and CRC. Short writes (rare, e.g. a signal) are finished by hand.
+    size_t total = sizeof h + h.payloadBytes;
+    ssize_t n;
+    do {
+        n = ::writev(fd_, iov, static_cast<int>(frame.numPlanes + 1));
+    } while (n < 0 && errno == EINTR);
+    if (n < 0) {
+        const int e = errno;
+        return makeError(ErrorKind::Io,
+                         "cannot write frame " + std::to_string(frames_) + " to " + path_ + ": " +
+                             errnoText(e) + "; check free disk space",
+                         e);
+    }
+    size_t written = static_cast<size_t>(n);
+    for (unsigned i = 0; i < frame.numPlanes + 1 && written < total; ++i) {
+        size_t skip = written;
+        size_t before = 0;
+        for (unsigned k = 0; k < i; ++k)
+            before += iov[k].iov_len;
+        if (skip >= before + iov[i].iov_len) continue;
+        skip -= before;
+        if (!writeAll(fd_, static_cast<uint8_t*>(iov[i].iov_base) + skip, iov[i].iov_len - skip)) {
+            const int e = errno;
+            return makeError(ErrorKind::Io, "cannot write frame to " + path_ + ": " + errnoText(e),
+                             e);
+        }
+        written += iov[i].iov_len - skip;
+    }
+    if (h.flags & replay::kFlagDroppedBefore) ++dropped_;
+    lastSequence_ = frame.sequence;
+    ++frames_;
+    bytes_ += total;
+    return {};
+}
+
+Status RecordingWriter::flush() {
+    if (fd_ >= 0 && ::fdatasync(fd_) != 0) {
+        const int e = errno;
+        return makeError(ErrorKind::Io, "cannot flush " + path_ + ": " + errnoText(e), e);
+    }
+    return {};
+}
+
+Status RecordingWriter::close() {
+    if (fd_ < 0) return {};
+    Status s = flush();
+    ::close(fd_);
+    fd_ = -1;
+    return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reader
+
+RecordingReader::~RecordingReader() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+Result<std::unique_ptr<RecordingReader>> RecordingReader::open(const std::string& dir) {
+    if (!isDirectory(dir))
+        return makeError(ErrorKind::NotFound, "recording " + dir +
+                                                  " does not exist or is not a directory; give the "
+                                                  "directory written by 'infocus record'");
+    const std::string headerPath = dir + "/" + replay::kHeaderFileName;
+    std::ifstream in(headerPath);
+    if (!in)
+        return makeError(ErrorKind::NotFound, "recording " + dir + " has no " +
+                                                  replay::kHeaderFileName +
+                                                  "; it is not an infocus recording or its "
+                                                  "recording never started");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    auto header = headerFromJson(headerPath, ss.str());
+    if (!header) return header.error();
+
+    std::unique_ptr<RecordingReader> r(new RecordingReader);
+    r->header_ = std::move(*header);
+    r->path_ = dir + "/" + replay::kFramesFileName;
+    r->fd_ = ::open(r->path_.c_str(), O_RDONLY | O_CLOEXEC);
+    if (r->fd_ < 0) {
+        const int e = errno;
+        return makeError(e == ENOENT ? ErrorKind::NotFound : ErrorKind::Io,
+                         "cannot open " + r->path_ + ": " + errnoText(e), e);
+    }
+    struct stat st;
+    if (::fstat(r->fd_, &st) != 0) {
+        const int e = errno;
+        return makeError(ErrorKind::Io, "cannot stat " + r->path_ + ": " + errnoText(e), e);
+    }
+    const auto fileSize = static_cast<uint64_t>(st.st_size);
+
+    // Walk the record headers; payloads are checked when read, so opening stays fast.
+    uint64_t offset = 0;
+    while (offset < fileSize) {
+        const std::string where = r->path_ + ": frame " + std::to_string(r->index_.size()) +
+                                  " at byte " + std::to_string(offset);
+        RecordHeader h;
+        const ssize_t n = readAt(r->fd_, &h, sizeof h, offset);
+        if (n < 0) {
+            const int e = errno;
+            return makeError(ErrorKind::Io, "cannot read " + where + ": " + errnoText(e), e);
+        }
+        if (static_cast<size_t>(n) < sizeof h) {
+            r->damage_ = where + " is incomplete (" + std::to_string(n) + " of " +
+                         std::to_string(sizeof h) +
+                         " header bytes; the recording was interrupted); the frames before it "
+                         "are intact";
+            break;
+        }
+        if (h.magic != replay::kRecordMagic || h.headerBytes < sizeof h ||
+            headerCrc(h) != h.headerCrc) {
+            r->damage_ = where +
+                         " has a damaged record header (bad magic or CRC); the frames after it "
+                         "cannot be located, the frames before it are intact";
+            break;
+        }
+        const uint64_t end = offset + h.headerBytes + h.payloadBytes;
+        if (end > fileSize) {
+            r->damage_ = where + " is incomplete (" + std::to_string(fileSize - offset) + " of " +
+                         std::to_string(end - offset) +
+                         " bytes; the recording was interrupted); the frames before it are intact";
+            break;
+        }
+        RecordedFrameInfo info;
+        info.sequence = h.sequence;
+        info.timestampNs = h.timestampNs;
+        info.droppedBefore = (h.flags & replay::kFlagDroppedBefore) != 0;
+        info.offset = offset;
+        info.payloadBytes = h.payloadBytes;
+        r->index_.push_back(info);
+        offset = end;
+    }
+    return r;
+}
+
+Result<Frame> RecordingReader::read(size_t i) const {
+    if (i >= index_.size())
+        return makeError(ErrorKind::Usage, "frame " + std::to_string(i) + " is beyond the " +
+                                               std::to_string(index_.size()) + " frames of " +
+                                               path_);
+    const RecordedFrameInfo& info = index_[i];
+    const std::string where =
+        path_ + ": frame " + std::to_string(i) + " at byte " + std::to_string(info.offset);
+    RecordHeader h;
+    if (readAt(fd_, &h, sizeof h, info.offset) != static_cast<ssize_t>(sizeof h)) {
+        const int e = errno;
+        return makeError(ErrorKind::Io, "cannot read " + where + ": " + errnoText(e), e);
+    }
+    // The buffer is left uninitialised: every byte is overwritten by the read.
+    std::shared_ptr<uint8_t[]> buffer(new uint8_t[h.payloadBytes > 0 ? h.payloadBytes : 1]);
+    if (readAt(fd_, buffer.get(), h.payloadBytes, info.offset + h.headerBytes) !=
+        static_cast<ssize_t>(h.payloadBytes)) {
+        const int e = errno;
+        return makeError(ErrorKind::Io, "cannot read " + where + ": " + errnoText(e), e);
+    }
+    if (replay::crc32(buffer.get(), h.payloadBytes) != h.payloadCrc)
+        return makeError(ErrorKind::Corrupt,
+                         where + " is corrupt (pixel data fails its CRC); it is skipped");
+    uint64_t sum = 0;
+    for (unsigned p = 0; p < h.numPlanes && p < 3; ++p)
+        sum += h.planeBytes[p];
+    if (h.numPlanes < 1 || h.numPlanes > 3 || sum != h.payloadBytes)
+        return makeError(ErrorKind::Corrupt,
+                         where + " has an inconsistent plane layout; it is skipped");
+
+    Frame f;
+    f.format = static_cast<PixelFormat>(h.pixelFormat);
+    f.size = {h.width, h.height};
+    f.numPlanes = h.numPlanes;
+    size_t offset = 0;
+    for (unsigned p = 0; p < h.numPlanes; ++p) {
+        f.planes[p] = Plane{buffer.get() + offset, h.stride[p], h.planeBytes[p]};
+        offset += h.planeBytes[p];
+    }
+    f.timestampNs = h.timestampNs;
+    f.sequence = h.sequence;
+    if (h.flags & replay::kFlagHasLens) {
+        LensPosition lens;
+        lens.value = h.lensValue;
+        lens.unit.assign(h.lensUnit, strnlen(h.lensUnit, sizeof h.lensUnit));
+        if (h.flags & replay::kFlagHasLensDioptres) lens.dioptres = h.lensDioptres;
+        f.lens = lens;
+    }
+    if (h.flags & replay::kFlagHasExposure) f.exposureS = h.exposureS;
+    f.storage = std::move(buffer);
+    return f;
+}
+
+}  // namespace infocus
