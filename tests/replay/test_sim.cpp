@@ -1,0 +1,316 @@
+// SPDX-License-Identifier: MIT
+// The simulated camera against the lecture's thin-lens defocus model: the per-region disc
+// diameter equals ΔX_i computed independently here, a rendered edge rises 10–90 % over
+// 0.68705·d, the disc rendering equals a brute-force pixel-area convolution, focus moves after
+// one settle frame, and frames are deterministic per seed and fast enough for 720p30.
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "infocus/sim.h"
+#include "infocus/source.h"
+#include "replay/replay_sources.h"
+
+using namespace infocus;
+
+namespace {
+
+Result<std::unique_ptr<FrameSource>> openSim(const std::string& text) {
+    auto spec = parseSourceSpec(text);
+    if (!spec) return spec.error();
+    return replay::openSimSource(*spec);
+}
+
+std::unique_ptr<SimRenderer> renderer(const std::string& options) {
+    auto spec = parseSourceSpec("sim:" + options);
+    REQUIRE(spec.ok());
+    auto config = parseSimOptions(spec->options);
+    REQUIRE(config.ok());
+    auto r = SimRenderer::create(*config);
+    REQUIRE(r.ok());
+    return std::move(*r);
+}
+
+// Lecture 5, in the "linear in dioptric defocus" form: ΔX_i = A·z_s·|1/z_o − 1/u|, with the
+// thin-lens sensor distance z_s = f·u/(u − f) and A = f/N. Independent of the renderer's form
+// A·|z_s(1/f − 1/z_o) − 1|; both are equal by 1/f = 1/z_s + 1/u.
+double lectureBlurM(double f, double n, double u, double zo) {
+    const double zs = f * u / (u - f);
+    return (f / n) * zs * std::abs(1.0 / zo - 1.0 / u);
+}
+
+// Pi Camera Module 3 at 1280 px wide: 1.4 µm × 4608 / 1280 = 5.04 µm per output pixel.
+constexpr double kF = 4.74e-3, kN = 1.8, kPitch1280 = 1.4e-6 * 4608 / 1280;
+
+// 10–90 % rise (pixels) of a falling edge profile between levels @p hi and @p lo, with linear
+// interpolation between samples.
+double riseWidth(const std::vector<double>& p, double hi, double lo) {
+    const auto crossing = [&](double level) {
+        for (size_t i = 1; i < p.size(); ++i)
+            if (p[i - 1] >= level && p[i] < level)
+                return (i - 1) + (p[i - 1] - level) / (p[i - 1] - p[i]);
+        return -1.0;
+    };
+    const double x90 = crossing(lo + 0.9 * (hi - lo)), x10 = crossing(lo + 0.1 * (hi - lo));
+    REQUIRE(x90 >= 0);
+    REQUIRE(x10 >= 0);
+    return x10 - x90;
+}
+
+}  // namespace
+
+TEST_CASE("the renderer's blur diameter is the lecture's ΔX_i") {
+    SimLens lens;
+    for (double u : {0.3, 1.2, 5.0})
+        for (double zo : {0.1, 0.25, 0.6, 1.2, 3.0, 100.0}) {
+            const double expect = lectureBlurM(kF, kN, u, zo);
+            auto got = simBlurDiameterM(lens, 1.0 / u, zo);
+            REQUIRE(got.has_value());
+            // Same quantity by two algebraic routes: equal to rounding (1e-9 relative).
+            REQUIRE(*got == Approx(expect).epsilon(1e-9).margin(1e-15));
+        }
+    // Focus at infinity: z_s = f, ΔX_i = A·f/z_o.
+    REQUIRE(*simBlurDiameterM(lens, 0.0, 2.0) == Approx(kF / kN * kF / 2.0).epsilon(1e-12));
+    REQUIRE(!simSensorDistanceM(lens, 1.0 / 0.004).has_value());  // focus inside f
+
+    // Per region of the steps scene: the rendered diameter is ΔX_i in pixels, quantised.
+    auto r = renderer("scene=steps,distances=0.25m:0.5m:1m:2m,focus=1m,size=1280x720");
+    const auto regions = r->regions(1.0);
+    REQUIRE(regions.size() == 4);
+    const double depths[] = {0.25, 0.5, 1.0, 2.0};
+    for (size_t i = 0; i < 4; ++i) {
+        const Rect& rc = regions[i].rect;
+        const double expectPx = lectureBlurM(kF, kN, 1.0, depths[i]) / kPitch1280;
+        INFO("region " << i << " expect " << expectPx << " px");
+        REQUIRE(regions[i].depthM == Approx(depths[i]).epsilon(1e-6));  // float depth map
+        REQUIRE(regions[i].blurDiameterPx == Approx(expectPx).epsilon(1e-6));
+        for (int x : {rc.x, rc.x + rc.w / 2, rc.x + rc.w - 1}) {
+            // Quantisation to 1/16 px: at most half a step away.
+            REQUIRE(std::abs(r->renderedDiameterPxAt(x, rc.y + 3, 1.0) - expectPx) <=
+                    kSimDiameterStepPx / 2 + 1e-9);
+        }
+    }
+    // The in-focus band is sharp; the nearest band has the largest blur.
+    REQUIRE(regions[2].blurDiameterPx < 1e-9);
+    REQUIRE(regions[0].blurDiameterPx > regions[1].blurDiameterPx);
+}
+
+TEST_CASE("a rendered edge rises 10-90 % over 0.68705 d") {
+    // A vertical edge (angle 0) at 0.1 m, 1280 px wide (5.04 um per pixel); the focus, beyond
+    // the edge, sets the disc diameter d.
+    for (double wantPx : {3.0, 6.0, 12.0, 20.0}) {
+        // Solve ΔX_i(u) = wantPx for the far focus: 1/u = 1/zo − b/(A·z_s), iterating z_s
+        // (which depends weakly on u).
+        const double zo = 0.1, b = wantPx * kPitch1280;
+        double invU = 1.0 / zo;
+        for (int i = 0; i < 50; ++i) {
+            const double zs = 1.0 / (1.0 / kF - invU);
+            invU = 1.0 / zo - b / ((kF / kN) * zs);
+        }
+        REQUIRE(invU > 0);
+        char opts[128];
+        std::snprintf(opts, sizeof opts,
+                      "scene=edges,angle=0,distance=0.1m,focus=%.9fdpt,size=1280x720", invU);
+        auto r = renderer(opts);
+        const double d = r->blurDiameterPxAt(640, 360, invU);
+        REQUIRE(d == Approx(wantPx).epsilon(1e-6));
+        const Image<float> sharp = r->sharpImage();
+        const Image<float> img = r->render(invU);
+        // A light-to-dark step in the sharp chart with flat areas ±30 px around it.
+        const auto light = [&](int x, int y) { return sharp.at(x, y) > 150; };
+        int row = -1, edge = -1;
+        for (int y = 360; y < 680 && edge < 0; ++y)
+            for (int x = 641; x < 1200; ++x)
+                if (light(x - 1, y) && !light(x, y) && !light(x + 29, y) && light(x - 30, y) &&
+                    !light(x + 5, y - 30) && !light(x + 5, y + 30) && light(x - 6, y - 30) &&
+                    light(x - 6, y + 30)) {
+                    row = y;
+                    edge = x;
+                    break;
+                }
+        REQUIRE(edge > 0);
+        std::vector<double> profile;
+        for (int x = edge - 29; x <= edge + 28; ++x)
+            profile.push_back(img.at(x, row));
+        const double rise = riseWidth(profile, 204.0, 51.0);
+        INFO("d = " << d << " px, rise " << rise << " px, 0.68705 d = " << 0.68705 * d);
+        // The sensor's 1-pixel area integration widens the rise slightly: allow 0.3 px + 2 %.
+        REQUIRE(std::abs(rise - 0.68705 * d) <= 0.3 + 0.02 * d);
+        WARN("edge d=" << d << " px: rise " << rise << " px vs 0.68705 d = " << 0.68705 * d);
+    }
+}
+
+TEST_CASE("disc rendering equals a brute-force pixel-area-integrated convolution") {
+    auto r =
+        renderer("scene=plane,distance=0.5m,focus=1m,size=96x64,seed=7,focal=25mm,fnumber=1.4");
+    const double d = r->blurDiameterPxAt(10, 10, 1.0);
+    REQUIRE(d > 5);
+    REQUIRE(d < 15);
+    const double dq = r->renderedDiameterPxAt(10, 10, 1.0);
+    const Image<float> sharp = r->sharpImage();
+    const Image<float> img = r->render(1.0);
+    // Kernel by supersampling every pixel (128×128 samples), normalised to unit sum.
+    const double rad = dq / 2;
+    const int ext = static_cast<int>(std::ceil(rad + 0.5));
+    std::vector<double> k((2 * ext + 1) * (2 * ext + 1));
+    double sum = 0;
+    for (int dy = -ext; dy <= ext; ++dy)
+        for (int dx = -ext; dx <= ext; ++dx) {
+            int in = 0;
+            for (int j = 0; j < 128; ++j)
+                for (int i = 0; i < 128; ++i) {
+                    const double x = dx - 0.5 + (i + 0.5) / 128, y = dy - 0.5 + (j + 0.5) / 128;
+                    in += x * x + y * y <= rad * rad;
+                }
+            k[(dy + ext) * (2 * ext + 1) + dx + ext] = in;
+            sum += in;
+        }
+    double worst = 0;
+    for (int y = ext; y < 64 - ext; ++y)
+        for (int x = ext; x < 96 - ext; ++x) {
+            double s = 0;
+            for (int dy = -ext; dy <= ext; ++dy)
+                for (int dx = -ext; dx <= ext; ++dx)
+                    s += k[(dy + ext) * (2 * ext + 1) + dx + ext] * sharp.at(x + dx, y + dy);
+            worst = std::max(worst, std::abs(s / sum - img.at(x, y)));
+        }
+    // Sub-pixel sampling differs (64² vs 128²): a few thousandths of a grey level.
+    REQUIRE(worst < 0.05);
+}
+
+TEST_CASE("every scene renders with its depth layout") {
+    SECTION("plane in focus renders the sharp texture") {
+        auto r = renderer("scene=plane,distance=1.2m,focus=1.2m,size=160x90");
+        const Image<float> sharp = r->sharpImage(), img = r->render(1.0 / 1.2);
+        for (int y = 0; y < 90; ++y)
+            for (int x = 0; x < 160; ++x)
+                REQUIRE(img.at(x, y) == Approx(sharp.at(x, y)).margin(1e-3));
+    }
+    SECTION("steps: one depth per band, left to right") {
+        auto r = renderer("scene=steps,size=200x100");
+        const auto regions = r->regions(1 / 1.2);
+        REQUIRE(regions.size() == 5);  // default 0.3 0.6 1.2 2.4 4.8 m
+        REQUIRE(regions[0].depthM == Approx(0.3).epsilon(1e-6));
+        REQUIRE(regions[4].depthM == Approx(4.8).epsilon(1e-6));
+        REQUIRE(r->depthAtM(0, 50) == Approx(0.3).epsilon(1e-6));
+        REQUIRE(r->depthAtM(199, 50) == Approx(4.8).epsilon(1e-6));
+    }
+    SECTION("tilted: depth grows down the image (axis x) or across it (axis y)") {
+        auto rx = renderer("scene=tilted,tilt=30,axis=x,distance=1m,size=320x180");
+        REQUIRE(rx->depthAtM(160, 10) < rx->depthAtM(160, 90));
+        REQUIRE(rx->depthAtM(160, 90) < rx->depthAtM(160, 170));
+        REQUIRE(rx->depthAtM(10, 90) == Approx(rx->depthAtM(300, 90)).epsilon(1e-6));
+        // Centre row: the plane's distance on the axis (pixel centre is ½ px off axis).
+        REQUIRE(rx->depthAtM(160, 90) == Approx(1.0).epsilon(1e-2));
+        // Off axis: Z = d / (1 − tanθ·v), v = y_sensor / f (ray through the lens centre).
+        const double v = (170 + 0.5 - 90) * (1.4e-6 * 4608 / 320) / kF;
+        REQUIRE(rx->depthAtM(160, 170) ==
+                Approx(1.0 / (1 - std::tan(30 * M_PI / 180) * v)).epsilon(1e-5));
+        auto ry = renderer("scene=tilted,tilt=30,axis=y,distance=1m,size=320x180");
+        REQUIRE(ry->depthAtM(10, 90) < ry->depthAtM(310, 90));
+        REQUIRE(ry->regions(1.0).size() == 16 * 9);
+        const Image<float> img = ry->render(1.0);
+        REQUIRE(img.width() == 320);
+    }
+    SECTION("edges: two grey levels in the sharp chart") {
+        auto r = renderer("scene=edges,size=320x240");
+        const Image<float> sharp = r->sharpImage();
+        int light = 0, dark = 0;
+        for (int y = 0; y < 240; ++y)
+            for (int x = 0; x < 320; ++x) {
+                light += sharp.at(x, y) > 203.9f;
+                dark += sharp.at(x, y) < 51.1f;
+            }
+        REQUIRE(light > 320 * 240 / 2);  // squares cover a quarter of the chart
+        REQUIRE(dark > 320 * 240 / 8);
+    }
+}
+
+TEST_CASE("sim: source frames, focus control with one settle frame, determinism") {
+    auto s = openSim(
+        "sim:scene=plane,distance=0.5m,focus=0.5m,size=64x48,pace=fast,noise=0.01,focal=25mm,"
+        "fnumber=1.4");
+    REQUIRE(s.ok());
+    FrameSource& src = **s;
+    REQUIRE(src.info().format == PixelFormat::GREY);
+    FocusControl* focus = src.focusControl();
+    REQUIRE(focus != nullptr);
+    REQUIRE(focus->range().unit == "dioptre");
+    REQUIRE(focus->settleFrames() == 1);
+    REQUIRE(src.start().ok());
+    auto f0 = src.next();
+    REQUIRE(f0.ok());
+    REQUIRE(f0->lens->unit == "dioptre");
+    REQUIRE(*f0->lens->dioptres == Approx(2.0).epsilon(1e-12));
+    REQUIRE(focus->set(0.5).ok());
+    auto f1 = src.next();  // the settle frame: still the old position
+    auto f2 = src.next();
+    REQUIRE(f1->lens->value == Approx(2.0).epsilon(1e-12));
+    REQUIRE(f2->lens->value == Approx(0.5).epsilon(1e-12));
+    REQUIRE(f2->sequence == 2);
+    // 30 fps default; timestamps are rounded to whole ns, so a step may be 1 ns longer.
+    REQUIRE(std::abs(f2->timestampNs - f1->timestampNs - 33'333'333) <= 1);
+    // Defocus lowers the image's contrast: the sum of absolute horizontal differences drops.
+    const auto activity = [](const Frame& f) {
+        double a = 0;
+        for (int y = 0; y < f.size.height; ++y)
+            for (int x = 1; x < f.size.width; ++x)
+                a += std::abs(f.planes[0].data[y * f.planes[0].stride + x] -
+                              f.planes[0].data[y * f.planes[0].stride + x - 1]);
+        return a;
+    };
+    REQUIRE(activity(*f2) < 0.7 * activity(*f1));
+    REQUIRE(focus->set(50.0).ok());  // clamped to the range
+    REQUIRE(focus->get()->value == Approx(10.0).epsilon(1e-12));
+
+    // Same seed, same frames; another seed, another texture.
+    auto a = openSim("sim:size=64x48,pace=fast,noise=0.02,seed=3");
+    auto b = openSim("sim:size=64x48,pace=fast,noise=0.02,seed=3");
+    auto c = openSim("sim:size=64x48,pace=fast,noise=0.02,seed=4");
+    REQUIRE(((*a)->start().ok() && (*b)->start().ok() && (*c)->start().ok()));
+    for (int i = 0; i < 3; ++i) {
+        auto fa = (*a)->next(), fb = (*b)->next(), fc = (*c)->next();
+        REQUIRE(std::memcmp(fa->planes[0].data, fb->planes[0].data, 64 * 48) == 0);
+        REQUIRE(std::memcmp(fa->planes[0].data, fc->planes[0].data, 64 * 48) != 0);
+    }
+}
+
+TEST_CASE("sim: YUYV output, options and errors") {
+    auto s = openSim("sim:size=32x16,format=YUYV,pace=fast");
+    REQUIRE(s.ok());
+    REQUIRE((*s)->start().ok());
+    auto f = (*s)->next();
+    REQUIRE(f->format == PixelFormat::YUYV);
+    REQUIRE(f->planes[0].data[1] == 128);
+    for (const char* bad : {"sim:scene=cube", "sim:focus=1.2", "sim:size=12", "sim:tilt=85",
+                            "sim:colour=red", "sim:distance=-1m", "sim:noise=2"}) {
+        INFO(bad);
+        auto e = openSim(bad);
+        REQUIRE(!e.ok());
+        REQUIRE(e.error().kind == ErrorKind::Usage);
+        REQUIRE_THAT(e.error().message, Catch::Contains("sim:"));
+    }
+}
+
+TEST_CASE("sim: 720p with noise runs at 30 fps or more on one core") {
+    auto s = openSim("sim:scene=tilted,size=1280x720,pace=fast,noise=0.01");
+    REQUIRE(s.ok());
+    REQUIRE((*s)->start().ok());
+    REQUIRE((*s)->next().ok());  // first frame renders the blur for this focus
+    const auto t0 = std::chrono::steady_clock::now();
+    const int n = 30;
+    for (int i = 0; i < n; ++i)
+        REQUIRE((*s)->next().ok());
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    WARN("sim 720p: " << n / sec << " frames/s at a fixed focus");
+    REQUIRE(n / sec >= 30.0);
+    // A focus change re-renders the blur: report its cost.
+    REQUIRE((*s)->focusControl()->set(3.0).ok());
+    const auto t1 = std::chrono::steady_clock::now();
+    for (int i = 0; i < 3; ++i)
+        REQUIRE((*s)->next().ok());
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+    WARN("sim 720p: 3 frames across a focus change took " << ms << " ms");
+}
