@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: MIT
+/// @file synth.h
+/// Synthetic optics: sharp scenes (edges, squares, checkerboards, slanted-edge charts, natural-like
+/// texture) imaged through a known Gaussian or uniform-disc PSF, integrated over each pixel's
+/// area, with seeded noise. Every rendered image carries its true blur, so tests and benchmarks
+/// can check a measurement against ground truth. Coordinates are in pixels: pixel (i, j) covers
+/// [i, i+1) × [j, j+1), so its centre is (i + 0.5, j + 0.5). Intensities are grey levels on the
+/// 0..255 scale of Luma8.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include "infocus/image.h"
+
+namespace infocus::synth {
+
+/// The shape of a point-spread function.
+enum class PsfShape {
+    Gaussian,  ///< isotropic Gaussian, size = σ in pixels
+    Disc,      ///< uniform disc (the thin-lens defocus PSF), size = diameter in pixels
+};
+
+/// A rotationally symmetric PSF of known size. Size 0 is a perfect lens (only the pixel's own
+/// area blurs the image).
+struct Psf {
+    PsfShape shape = PsfShape::Gaussian;
+    double sizePx = 0.0;  ///< σ (Gaussian) or diameter (Disc), pixels, ≥ 0
+
+    /// A Gaussian PSF of standard deviation @p sigmaPx (pixels).
+    static Psf gaussian(double sigmaPx) { return {PsfShape::Gaussian, sigmaPx}; }
+    /// A uniform disc PSF of diameter @p diameterPx (pixels): the lecture's ΔX_i.
+    static Psf disc(double diameterPx) { return {PsfShape::Disc, diameterPx}; }
+
+    /// σ of the PSF's projection on any line (Gaussian: σ; disc of diameter d: d/4).
+    double sigmaPx() const;
+    /// Diameter of the uniform disc with the same second moment (Gaussian: 4σ; disc: d).
+    double discDiameterPx() const;
+    /// 10–90 % rise of the PSF's edge spread, pixel area excluded (2.5631 σ; 0.68705 d).
+    double edgeRisePx() const;
+};
+
+/// Edge spread of @p psf at signed distance @p u pixels from a straight edge: the fraction (0..1)
+/// of the PSF's mass with projection < u on the edge normal (pixel area not included).
+double edgeSpread(const Psf& psf, double u);
+
+/// How an image is imaged: PSF, pixel integration and noise.
+struct Imaging {
+    Psf psf;
+    int supersample = 8;      ///< sub-samples per pixel side for pixel-area integration (≥ 1)
+    double noiseSigma = 0.0;  ///< additive Gaussian noise, grey levels (0 = none)
+    uint64_t seed = 1;        ///< noise (and texture) seed: same seed, same image
+};
+
+/// A rendered image and the truth it was made with.
+struct SynthImage {
+    Image<float> pixels;  ///< grey levels 0..255 (not clamped until toLuma8)
+    Psf psf;              ///< the true blur
+    double noiseSigma = 0.0;
+};
+
+/// A straight edge through the point (cx + offset·n), n = (cos angle, sin angle) its normal; the
+/// side n points to is @p bright.
+struct Edge {
+    double angleDeg = 5.0;  ///< normal direction, degrees from +x towards +y (image rows go down)
+    double cx = 0.0;        ///< a point on the edge (pixels); see offsetPx
+    double cy = 0.0;
+    double offsetPx = 0.0;  ///< extra shift of the edge along its normal (sub-pixel placement)
+    float dark = 50.0f;
+    float bright = 200.0f;
+};
+
+/// Renders @p edge in a @p width × @p height image exactly: the analytic ESF of the PSF,
+/// integrated over each pixel's area by supersampling, plus noise.
+SynthImage renderEdge(int width, int height, const Edge& edge, const Imaging& imaging);
+
+/// A sharp scene: intensity at point (x, y) in pixels, or NaN where the scene is transparent
+/// (painting leaves what is below).
+using Scene = std::function<float(double x, double y)>;
+
+/// The sharp step of @p edge (covers the whole plane).
+Scene edgeScene(const Edge& edge);
+/// A square of side @p sidePx centred at (cx, cy), rotated by @p angleDeg, filled with @p value;
+/// transparent outside.
+Scene squareScene(double cx, double cy, double sidePx, double angleDeg, float value);
+/// A checkerboard of @p cellPx cells rotated by @p angleDeg about the origin.
+Scene checkerboardScene(double cellPx, double angleDeg, float dark, float bright);
+/// A slanted-edge chart: a light background with a grid of dark squares rotated by @p angleDeg
+/// (MTF-chart style, 5° is typical), one per @p pitchPx cell, each of side 0.5 · pitch.
+Scene slantedEdgeChartScene(double pitchPx, double angleDeg, float dark, float bright);
+
+/// A sharp image sampled @p supersample times finer than the output: the input of renderSharp.
+struct SharpCanvas {
+    Image<float> fine;    ///< (width · supersample) × (height · supersample) point samples
+    int supersample = 1;  ///< fine samples per output pixel side
+    int width() const { return fine.width() / supersample; }
+    int height() const { return fine.height() / supersample; }
+};
+
+/// An empty canvas for a @p width × @p height output, @p supersample fine samples per pixel
+/// side, filled with @p background.
+SharpCanvas makeCanvas(int width, int height, int supersample, float background = 128.0f);
+/// Paints @p scene over @p canvas (point-sampled at the fine samples' centres).
+void paint(SharpCanvas& canvas, const Scene& scene);
+/// Paints a natural-like texture over @p canvas: the dead-leaves model (occluding discs with
+/// radii distributed ∝ 1/r³ between @p minRadiusPx and @p maxRadiusPx, uniform grey levels
+/// @p lo..@p hi), whose power spectrum falls like natural images'. Deterministic in @p seed.
+void paintDeadLeaves(SharpCanvas& canvas, uint64_t seed, double minRadiusPx = 2.0,
+                     double maxRadiusPx = 60.0, float lo = 30.0f, float hi = 225.0f);
+
+/// Images @p canvas through @p imaging: blurs the fine samples by the PSF, averages each pixel's
+/// supersample² fine samples (pixel-area integration), adds noise. imaging.supersample is
+/// ignored (the canvas's own is used).
+SynthImage renderSharp(const SharpCanvas& canvas, const Imaging& imaging);
+
+/// Blurs an arbitrary image (e.g. a real photograph, grey levels) by @p psf: convolution with the
+/// PSF integrated over each pixel's area, borders replicated. Size 0 returns a copy.
+Image<float> blurImage(const Image<float>& image, const Psf& psf);
+/// The same for an 8-bit image; the result is rounded back to 8 bits.
+Image<uint8_t> blurImage(const Luma8& image, const Psf& psf);
+
+/// Adds seeded Gaussian noise of standard deviation @p sigma grey levels to @p image, in place.
+void addNoise(Image<float>& image, double sigma, uint64_t seed);
+
+/// Rounds and clamps grey levels to 8 bits (view() of the result is a Luma8).
+Image<uint8_t> toLuma8(const Image<float>& image);
+/// Converts 8-bit luma to float grey levels.
+Image<float> toFloat(const Luma8& image);
+
+}  // namespace infocus::synth

@@ -1,0 +1,446 @@
+// SPDX-License-Identifier: MIT
+// Blur width at straight edges: slanted-edge ESF sampling and the second moment of the line
+// spread. Method and error budget: docs/blur.md.
+#include "infocus/blur.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace infocus {
+
+namespace {
+
+// Variance of a 1 px box (the pixel's own area), px². Its projection on any edge normal is a
+// trapezoid of variance (cos²θ + sin²θ)/12 = 1/12, whatever the edge angle.
+constexpr double kPixelVariance = 1.0 / 12.0;
+// 10–90 % rise of a Gaussian edge per unit σ (DESIGN.md).
+constexpr double kGaussianRisePerSigma = 2.5631;
+// Plateau levels (grey) at which an edge counts as clipped by the sensor or the encoder.
+constexpr double kClipLow = 3.0, kClipHigh = 252.0;
+
+struct Bounds {
+    int x0, y0, x1, y1;  // half-open [x0, x1) × [y0, y1)
+};
+
+struct Candidate {
+    int x, y;
+    float gx, gy, mag2;
+};
+
+// An oriented rectangle on the image: centre c, unit normal n (dark → bright), tangent
+// t = (−ny, nx); half-extent hw across the edge, hl along it.
+struct Patch {
+    double cx, cy, nx, ny, hw, hl;
+    double u(double x, double y) const { return (x - cx) * nx + (y - cy) * ny; }
+    double t(double x, double y) const { return -(x - cx) * ny + (y - cy) * nx; }
+};
+
+// Calls fn(x, y, u, t) for every pixel of @p b whose centre lies inside @p p. The x range of each
+// row is solved from both slab constraints, so a 45° patch costs its area, not its bounding box.
+template <typename Fn>
+void forEachPixel(const Patch& p, const Bounds& b, Fn&& fn) {
+    const double r = std::abs(p.hw * p.nx) + std::abs(p.hl * p.ny);
+    const double rv = std::abs(p.hw * p.ny) + std::abs(p.hl * p.nx);
+    const int y0 = std::max(b.y0, static_cast<int>(std::floor(p.cy - rv - 0.5)));
+    const int y1 = std::min(b.y1 - 1, static_cast<int>(std::ceil(p.cy + rv - 0.5)));
+    for (int y = y0; y <= y1; ++y) {
+        const double dy = y + 0.5 - p.cy;
+        double lo = p.cx - r - 1.0, hi = p.cx + r + 1.0;
+        // |dx·nx + dy·ny| ≤ hw  and  |−dx·ny + dy·nx| ≤ hl, solved for dx.
+        auto clampSlab = [&](double a, double c, double h) {
+            if (std::abs(a) < 1e-12) {
+                if (std::abs(c) > h) hi = lo - 1.0;
+                return;
+            }
+            double e0 = (-h - c) / a, e1 = (h - c) / a;
+            if (e0 > e1) std::swap(e0, e1);
+            lo = std::max(lo, p.cx + e0);
+            hi = std::min(hi, p.cx + e1);
+        };
+        clampSlab(p.nx, dy * p.ny, p.hw);
+        clampSlab(-p.ny, dy * p.nx, p.hl);
+        const int x0 = std::max(b.x0, static_cast<int>(std::ceil(lo - 0.5)));
+        const int x1 = std::min(b.x1 - 1, static_cast<int>(std::floor(hi - 0.5)));
+        for (int x = x0; x <= x1; ++x) {
+            const double px = x + 0.5;
+            fn(x, y, p.u(px, y + 0.5), p.t(px, y + 0.5));
+        }
+    }
+}
+
+// Edge candidates: a Sobel gradient (grey levels per pixel) on a sparse grid of the region,
+// strongest first, at most @p cap of them.
+std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const BlurOptions& o,
+                                      size_t cap) {
+    std::vector<Candidate> all;
+    const int step = std::max(1, o.candidateStep);
+    float peak = 0.0f;
+    for (int y = std::max(roi.y0, 1); y < std::min(roi.y1, img.height - 1); y += step) {
+        const uint8_t* a = img.row(y - 1);
+        const uint8_t* m = img.row(y);
+        const uint8_t* c = img.row(y + 1);
+        for (int x = std::max(roi.x0, 1); x < std::min(roi.x1, img.width - 1); x += step) {
+            const int gx =
+                (a[x + 1] - a[x - 1]) + 2 * (m[x + 1] - m[x - 1]) + (c[x + 1] - c[x - 1]);
+            const int gy = (c[x - 1] - a[x - 1]) + 2 * (c[x] - a[x]) + (c[x + 1] - a[x + 1]);
+            const float mag2 = static_cast<float>(gx * gx + gy * gy) * (1.0f / 64.0f);
+            if (mag2 < o.minGradient * o.minGradient) continue;
+            peak = std::max(peak, mag2);
+            all.push_back({x, y, gx / 8.0f, gy / 8.0f, mag2});
+        }
+    }
+    const auto thr = static_cast<float>(o.relativeGradient * o.relativeGradient * peak);
+    std::erase_if(all, [thr](const Candidate& c) { return c.mag2 < thr; });
+    const size_t n = std::min(cap, all.size());
+    std::partial_sort(all.begin(), all.begin() + n, all.end(),
+                      [](const Candidate& a, const Candidate& b) { return a.mag2 > b.mag2; });
+    all.resize(n);
+    return all;
+}
+
+// Moves @p p onto the edge: a weighted line fit through the centroids of the directional
+// derivative in slices along the edge. Returns the RMS scatter of the centroids about the line
+// (px), or a negative value when too few slices carry an edge.
+double refineGeometry(const Luma8& img, const Bounds& b, Patch& p, double threshold) {
+    constexpr double kSlicePx = 4.0;
+    const int slices = std::max(3, static_cast<int>(std::ceil(2.0 * p.hl / kSlicePx)));
+    std::vector<double> sw(slices, 0.0), swu(slices, 0.0), swt(slices, 0.0);
+    forEachPixel(p, b, [&](int x, int y, double u, double t) {
+        const uint8_t* r = img.row(y);
+        const double d =
+            0.5 * ((r[x + 1] - r[x - 1]) * p.nx + (img.row(y + 1)[x] - img.row(y - 1)[x]) * p.ny);
+        const double w = d - threshold;
+        if (w <= 0.0) return;
+        const int s = std::clamp(static_cast<int>((t + p.hl) / kSlicePx), 0, slices - 1);
+        sw[s] += w;
+        swu[s] += w * u;
+        swt[s] += w * t;
+    });
+    // Weighted least squares e = a + b·t over the slice centroids (t_k, e_k), weights Σw.
+    double W = 0, St = 0, Se = 0, Stt = 0, Ste = 0;
+    int used = 0;
+    for (int s = 0; s < slices; ++s) {
+        if (sw[s] <= 0.0) continue;
+        const double t = swt[s] / sw[s], e = swu[s] / sw[s], w = sw[s];
+        W += w, St += w * t, Se += w * e, Stt += w * t * t, Ste += w * t * e;
+        ++used;
+    }
+    if (used < 3) return -1.0;
+    const double den = W * Stt - St * St;
+    if (den <= 1e-9) return -1.0;
+    const double slope = (W * Ste - St * Se) / den;
+    const double a = (Se - slope * St) / W;
+    double res = 0.0;
+    for (int s = 0; s < slices; ++s) {
+        if (sw[s] <= 0.0) continue;
+        const double t = swt[s] / sw[s], e = swu[s] / sw[s];
+        res += sw[s] * (e - a - slope * t) * (e - a - slope * t);
+    }
+    // The edge is the line u = a + slope·t: move the centre onto it and turn the normal by
+    // atan(slope) (n' ∝ n − slope·t̂).
+    p.cx += a * p.nx;
+    p.cy += a * p.ny;
+    const double nx = p.nx + slope * p.ny, ny = p.ny - slope * p.nx;
+    const double len = std::hypot(nx, ny);
+    p.nx = nx / len;
+    p.ny = ny / len;
+    return std::sqrt(res / W);
+}
+
+struct Bin {
+    double pos, value, withinVar, pixelVar;
+    int count;
+};
+
+struct EsfFit {
+    bool ok = false;
+    bool needWider = false;  // the edge's spread does not fit in the sampled width
+    double mean = 0, varLsf = 0, lo = 0, contrast = 0, noise = 0, rise = 0, binVar = 0;
+    double overshoot = 0;  // largest excursion past a plateau, fraction of the contrast
+};
+
+// Second moment of the line spread from the binned ESF, in a window grown or shrunk to 4 σ about
+// the centroid (holds 99.99 % of a Gaussian and all of a disc). Each difference of two bins is
+// the LSF convolved with the bins' own spread; that known variance (spacing²/12 + within-bin
+// variance of the positions) is removed here, the pixel's 1/12 by the caller.
+EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast) {
+    EsfFit f;
+    if (bins.size() < 8) return f;
+    const double first = bins.front().pos, last = bins.back().pos;
+    double mu = 0.5 * (first + last), radius = halfWidth;
+    constexpr double kPlateauPx = 2.0;
+    for (int iter = 0; iter < 6; ++iter) {
+        const double wl = mu - radius, wr = mu + radius;
+        // Plateau levels: mean over up to 2 px just outside the window (or the outermost bin).
+        double sl = 0, nl = 0, sr = 0, nr = 0, pv = 0, npv = 0;
+        size_t il = 0, ir = bins.size() - 1;
+        for (size_t i = 0; i < bins.size(); ++i) {
+            const Bin& b = bins[i];
+            if (b.pos <= wl && b.pos > wl - kPlateauPx) {
+                sl += b.value * b.count, nl += b.count;
+                pv += b.pixelVar * b.count, npv += b.count;
+            }
+            if (b.pos >= wr && b.pos < wr + kPlateauPx) {
+                sr += b.value * b.count, nr += b.count;
+                pv += b.pixelVar * b.count, npv += b.count;
+            }
+            if (b.pos <= wl) il = i;
+            if (b.pos >= wr && ir == bins.size() - 1 && i < ir) ir = i;
+        }
+        if (wl < first) il = 0;
+        if (wr > last) ir = bins.size() - 1;
+        const double lo = nl > 0 ? sl / nl : bins[il].value;
+        const double hi = nr > 0 ? sr / nr : bins[ir].value;
+        const double contrast = hi - lo;
+        if (contrast < minContrast || ir <= il + 2) return f;
+        double m0 = 0, m1 = 0, m2 = 0, corr = 0;
+        for (size_t i = il; i < ir; ++i) {
+            const double e0 = i == il ? lo : bins[i].value;
+            const double e1 = i + 1 == ir ? hi : bins[i + 1].value;
+            const double l = e1 - e0;
+            const double x = 0.5 * (bins[i].pos + bins[i + 1].pos);
+            const double gap = bins[i + 1].pos - bins[i].pos;
+            m0 += l;
+            m1 += l * x;
+            m2 += l * x * x;
+            corr += l * (gap * gap / 12.0 + 0.5 * (bins[i].withinVar + bins[i + 1].withinVar));
+        }
+        mu = m1 / m0;
+        const double var = m2 / m0 - mu * mu;
+        f.binVar = corr / m0;
+        f.varLsf = var - f.binVar;
+        f.contrast = contrast;
+        f.lo = lo;
+        f.mean = mu;
+        f.noise = npv > 0 ? std::sqrt(pv / npv) : 0.0;
+        const double newRadius = 4.0 * std::sqrt(std::max(var, 0.05)) + 1.0;
+        const bool converged = std::abs(newRadius - radius) < 0.05;
+        radius = newRadius;
+        if (converged) break;
+    }
+    // The window and a plateau beside it must lie inside what was sampled.
+    if (mu - radius - 1.0 < first || mu + radius + 1.0 > last) {
+        f.needWider = true;
+        return f;
+    }
+    // 10–90 % rise of the sampled ESF, searched outwards from the centroid.
+    double x10 = mu, x90 = mu;
+    size_t c = 0;
+    while (c + 1 < bins.size() && bins[c + 1].pos < mu)
+        ++c;
+    auto level = [&](size_t i) { return (bins[i].value - f.lo) / f.contrast; };
+    for (size_t i = c; i > 0; --i) {
+        const double a = level(i - 1), b = level(i);
+        if (a <= 0.1 && b > 0.1) {
+            x10 = bins[i - 1].pos + (0.1 - a) / (b - a) * (bins[i].pos - bins[i - 1].pos);
+            break;
+        }
+    }
+    for (size_t i = c; i + 1 < bins.size(); ++i) {
+        const double a = level(i), b = level(i + 1);
+        if (a < 0.9 && b >= 0.9) {
+            x90 = bins[i].pos + (0.9 - a) / (b - a) * (bins[i + 1].pos - bins[i].pos);
+            break;
+        }
+    }
+    f.rise = x90 - x10;
+    // A clean edge rises monotonically from one plateau to the other. A second edge inside the
+    // window (a thin line, a small blob, crowded texture) overshoots a plateau: measure by how
+    // much, on the ESF averaged over 1 px so that noise does not count.
+    double overshoot = 0.0;
+    for (size_t i = 0; i < bins.size(); ++i) {
+        if (std::abs(bins[i].pos - mu) > radius) continue;
+        double sum = 0, n = 0;
+        for (size_t j = i; j < bins.size() && bins[j].pos < bins[i].pos + 1.0; ++j)
+            sum += bins[j].value * bins[j].count, n += bins[j].count;
+        const double v = sum / n;
+        overshoot = std::max({overshoot, v - (f.lo + f.contrast), f.lo - v});
+    }
+    f.overshoot = overshoot / f.contrast;
+    f.ok = true;
+    return f;
+}
+
+// Bins the pixels of @p p by their distance across the edge (the slanted-edge ESF).
+std::vector<Bin> sampleEsf(const Luma8& img, const Bounds& b, const Patch& p, double binPx) {
+    const int n = static_cast<int>(std::ceil(2.0 * p.hw / binPx));
+    std::vector<double> s(n, 0), s2(n, 0), su(n, 0), suu(n, 0);
+    std::vector<int> cnt(n, 0);
+    const double inv = 1.0 / binPx;
+    forEachPixel(p, b, [&](int x, int y, double u, double) {
+        const int k = static_cast<int>((u + p.hw) * inv);
+        if (k < 0 || k >= n) return;
+        const double v = img.row(y)[x];
+        s[k] += v, s2[k] += v * v, su[k] += u, suu[k] += u * u, ++cnt[k];
+    });
+    std::vector<Bin> bins;
+    bins.reserve(n);
+    for (int k = 0; k < n; ++k) {
+        if (cnt[k] == 0) continue;
+        const double m = su[k] / cnt[k], v = s[k] / cnt[k];
+        bins.push_back({m, v, std::max(0.0, suu[k] / cnt[k] - m * m),
+                        std::max(0.0, s2[k] / cnt[k] - v * v), cnt[k]});
+    }
+    return bins;
+}
+
+// Measures one edge from a seed; empty when it is not a usable straight edge.
+std::optional<EdgeMeasurement> measureEdge(const Luma8& img, const Bounds& b, const Candidate& c,
+                                           const BlurOptions& o, double halfLength, Patch& patch) {
+    const double g = std::sqrt(c.mag2);
+    patch = Patch{c.x + 0.5, c.y + 0.5, c.gx / g, c.gy / g, 6.0, halfLength};
+    const double threshold = 0.2 * g;
+    double straight = 0.0;
+    for (int pass = 0; pass < 6; ++pass) {
+        for (int it = 0; it < 2; ++it) {
+            straight = refineGeometry(img, b, patch, threshold);
+            if (straight < 0.0) return std::nullopt;
+        }
+        const EsfFit f = fitEsf(sampleEsf(img, b, patch, o.binPx), patch.hw, o.minContrast);
+        // A clipped edge (a plateau at black or white) has lost the part of its spread beyond the
+        // clip: its moment says nothing about the blur.
+        if (f.ok && (f.lo <= kClipLow || f.lo + f.contrast >= kClipHigh)) return std::nullopt;
+        // An LSF narrower than half the pixel's own spread is no imaged edge (JPEG block seams,
+        // a window collapsed on clutter), and a fit without plateau pixels has nothing to trust.
+        if (f.ok && (f.varLsf < 0.5 * kPixelVariance || f.noise <= 0.0)) return std::nullopt;
+        if (f.ok) {
+            EdgeMeasurement m;
+            m.cx = patch.cx + f.mean * patch.nx;
+            m.cy = patch.cy + f.mean * patch.ny;
+            m.angleDeg = std::atan2(patch.ny, patch.nx) * 180.0 / std::numbers::pi;
+            m.contrast = f.contrast;
+            m.noise = f.noise;
+            m.sigmaPx = std::sqrt(std::max(0.0, f.varLsf - kPixelVariance));
+            m.riseRawPx = f.rise;
+            // The sampled rise includes the pixel area and the bins' own spread; remove them as
+            // Gaussian shares in quadrature (exact for a Gaussian PSF, close for a disc, whose
+            // rise per σ is 2.7482 rather than 2.5631). Near 0° and 45° the ESF is sampled at
+            // whole-pixel spacing, too coarse to interpolate a crossing: there the Gaussian
+            // model's rise of the measured σ stands in.
+            const double floorRise2 =
+                kGaussianRisePerSigma * kGaussianRisePerSigma * (kPixelVariance + f.binVar);
+            const bool dense = f.binVar <= 2.0 * o.binPx * o.binPx / 6.0;
+            m.edgeWidthPx = dense ? std::sqrt(std::max(0.0, f.rise * f.rise - floorRise2))
+                                  : kGaussianRisePerSigma * m.sigmaPx;
+            m.straightnessPx = straight;
+            const double sd = std::sqrt(std::max(f.varLsf, kPixelVariance));
+            const double cnr = f.contrast / std::max(f.noise, 0.5);
+            const double bend = straight / (0.3 + 0.25 * sd);
+            const double over = f.overshoot / 0.25;
+            m.quality = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend - over * over);
+            return m;
+        }
+        if (!f.needWider || patch.hw >= o.maxHalfWidthPx) return std::nullopt;
+        const double sd = std::sqrt(std::max(f.varLsf, 0.1));
+        patch.hw = std::min(o.maxHalfWidthPx, std::max(1.6 * patch.hw, 4.0 * sd + 4.0));
+    }
+    return std::nullopt;
+}
+
+Bounds clipRect(const Rect& r, int w, int h) {
+    return {std::clamp(r.x, 0, w), std::clamp(r.y, 0, h), std::clamp(r.x + r.w, 0, w),
+            std::clamp(r.y + r.h, 0, h)};
+}
+
+}  // namespace
+
+std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
+                                          const BlurOptions& options) {
+    std::vector<EdgeMeasurement> out;
+    if (luma.empty() || luma.width < 3 || luma.height < 3) return out;
+    const Bounds r = clipRect(roi, luma.width, luma.height);
+    if (r.x1 - r.x0 < 3 || r.y1 - r.y0 < 3) return out;
+    // Sampling stays one pixel inside the image: the derivative needs both neighbours.
+    Bounds sb = options.sampleOutsideRoi ? Bounds{0, 0, luma.width, luma.height} : r;
+    sb = {std::max(sb.x0, 1), std::max(sb.y0, 1), std::min(sb.x1, luma.width - 1),
+          std::min(sb.y1, luma.height - 1)};
+    const int maxEdges = std::max(1, options.maxEdges);
+    // Longer segments average more pixels per ESF bin (less noise) but must stay straight and
+    // inside the region's scale: a quarter of the region's smaller side unless told.
+    const double halfLength =
+        options.edgeHalfLengthPx > 0
+            ? options.edgeHalfLengthPx
+            : std::clamp(0.25 * std::min(r.x1 - r.x0, r.y1 - r.y0), 8.0, 48.0);
+    std::vector<Candidate> cands = findCandidates(luma, r, options, 64);
+    std::vector<Patch> used;
+    int attempts = 0;
+    for (const Candidate& c : cands) {
+        if (static_cast<int>(out.size()) >= maxEdges || attempts >= 3 * maxEdges + 4) break;
+        // Skip seeds on an edge already measured (or already rejected).
+        const double px = c.x + 0.5, py = c.y + 0.5;
+        const bool covered = std::any_of(used.begin(), used.end(), [&](const Patch& p) {
+            return std::abs(p.u(px, py)) <= std::max(p.hw, 3.0) && std::abs(p.t(px, py)) <= p.hl;
+        });
+        if (covered) continue;
+        ++attempts;
+        // Long segments average more pixels; curved or crowded edges (texture) only stay straight
+        // and clean over a short one: halve the length until the edge measures well.
+        std::optional<EdgeMeasurement> best;
+        Patch bestPatch{};
+        for (double len = halfLength; len >= 6.0; len *= 0.5) {
+            Patch patch{};
+            auto m = measureEdge(luma, sb, c, options, len, patch);
+            if (len == halfLength) bestPatch = patch;
+            if (m && (!best || m->quality > best->quality)) {
+                best = m;
+                bestPatch = patch;
+            }
+            if (best && best->quality > 0.5) break;
+        }
+        used.push_back(bestPatch);
+        if (best) out.push_back(*best);
+    }
+    return out;
+}
+
+BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& options) {
+    BlurEstimate est;
+    const std::vector<EdgeMeasurement> edges = measureEdges(luma, roi, options);
+    std::vector<const EdgeMeasurement*> good;
+    for (const EdgeMeasurement& e : edges)
+        if (e.quality > 0.05) good.push_back(&e);
+    if (good.empty()) return est;
+    // Robust mean: the weighted median of the per-edge σ picks the majority (a region may hold
+    // edges at several depths, or a stray texture edge); the edges within 25 % of it are then
+    // averaged in variance, weighted by quality, which beats the median's noise.
+    std::sort(good.begin(), good.end(),
+              [](const auto* a, const auto* b) { return a->sigmaPx < b->sigmaPx; });
+    double total = 0;
+    for (const auto* e : good)
+        total += e->quality;
+    double acc = 0, median = good.back()->sigmaPx;
+    for (const auto* e : good) {
+        acc += e->quality;
+        if (acc >= 0.5 * total) {
+            median = e->sigmaPx;
+            break;
+        }
+    }
+    double sw = 0, sv = 0, sr = 0;
+    int agreeing = 0;
+    for (const auto* e : good) {
+        if (std::abs(e->sigmaPx - median) > 0.25 * median + 0.05) continue;
+        sw += e->quality;
+        sv += e->quality * e->sigmaPx * e->sigmaPx;
+        sr += e->quality * e->edgeWidthPx * e->edgeWidthPx;
+        ++agreeing;
+    }
+    const double sigma = std::sqrt(sv / sw), width = std::sqrt(sr / sw);
+    const double floor2 = options.opticsFloorSigmaPx * options.opticsFloorSigmaPx;
+    const double s = std::sqrt(std::max(0.0, sigma * sigma - floor2));
+    est.sigmaPx = s;
+    // A disc's projection is a semicircle of variance d²/16: the disc of equal moment has d = 4σ.
+    est.discDiameterPx = 4.0 * s;
+    est.edgeWidthPx = std::sqrt(
+        std::max(0.0, width * width - kGaussianRisePerSigma * kGaussianRisePerSigma * floor2));
+    est.edgeCount = agreeing;
+    // Confidence: mean quality of the agreeing edges, more edges better, discounted by the
+    // share of edges that disagree with the majority.
+    const double agreement = static_cast<double>(agreeing) / good.size();
+    est.confidence =
+        std::clamp((sw / agreeing) * (1.0 - std::exp(-agreeing / 1.5)) * agreement, 0.0, 1.0);
+    return est;
+}
+
+}  // namespace infocus
