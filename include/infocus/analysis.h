@@ -37,6 +37,8 @@ struct FrameAnalysis {
     std::optional<LensPosition> lens;
     int width = 0;
     int height = 0;
+    std::string metric;                ///< operator that produced RegionResult::sharpness
+    std::optional<double> noiseSigma;  ///< estimated white-noise σ (grey levels) removed from it
     std::vector<RegionResult> regions;
 };
 
@@ -47,6 +49,27 @@ struct AnalysisOptions {
     std::vector<Rect> rois;   ///< explicit regions instead of the grid
     std::string metric;       ///< sharpness operator name; empty: the default operator
     bool measureBlur = true;  ///< also fill the blur fields (edge width, σ, disc diameter)
+};
+
+/// Analyses frames one after another, reusing its buffers and JPEG decoder. Not thread-safe
+/// (it may use threads inside); use one per stream.
+class Analyzer {
+public:
+    /// Validates @p options (grid size, ROIs, operator name); errors are ErrorKind::Usage.
+    static Result<std::unique_ptr<Analyzer>> create(const AnalysisOptions& options);
+    ~Analyzer();
+
+    /// Measures @p frame; @p index becomes FrameAnalysis::frame. Fails when the frame cannot be
+    /// converted to luma (damaged data, unknown format) or an ROI lies outside it.
+    Result<FrameAnalysis> analyze(const Frame& frame, uint64_t index);
+
+    /// White-noise σ (grey levels) estimated on the last frame and removed from the scores.
+    double lastNoiseSigma() const;
+
+private:
+    struct Impl;
+    explicit Analyzer(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
 };
 
 /// Receives each analysed frame; a failed Status stops the analysis and is returned.

@@ -31,6 +31,8 @@ std::string toJsonLine(const FrameAnalysis& a) {
     }
     j["width"] = a.width;
     j["height"] = a.height;
+    if (!a.metric.empty()) j["metric"] = a.metric;
+    if (a.noiseSigma) j["noise_sigma"] = *a.noiseSigma;
     Json regions = Json::array();
     for (const auto& r : a.regions) {
         Json o;
@@ -65,6 +67,9 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
         a.timestampNs = j.value("timestamp_ns", int64_t{0});
         a.width = j.at("width").get<int>();
         a.height = j.at("height").get<int>();
+        a.metric = j.value("metric", std::string());
+        if (j.contains("noise_sigma") && j["noise_sigma"].is_number())
+            a.noiseSigma = j["noise_sigma"].get<double>();
         if (j.contains("lens_position") && j["lens_position"].is_object()) {
             const Json& l = j["lens_position"];
             LensPosition p;

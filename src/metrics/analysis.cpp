@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: MIT
+// The per-frame analyser: luma, noise estimate, sharpness of every region, blur width.
+#include <future>
+#include <thread>
+
+#include "infocus/analysis.h"
+#include "infocus/blur.h"
+#include "infocus/luma.h"
+#include "infocus/metrics.h"
+
+namespace infocus {
+
+struct Analyzer::Impl {
+    AnalysisOptions options;
+    SharpnessParams params;
+    LumaConverter converter;
+    double noiseSigma = 0.0;
+};
+
+Analyzer::Analyzer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Analyzer::~Analyzer() = default;
+
+Result<std::unique_ptr<Analyzer>> Analyzer::create(const AnalysisOptions& options) {
+    auto impl = std::make_unique<Impl>();
+    impl->options = options;
+    if (!options.metric.empty()) {
+        auto op = parseOperator(options.metric);
+        if (!op) return op.error();
+        impl->params.op = *op;
+    }
+    if (options.rois.empty() &&
+        (options.cols < 1 || options.rows < 1 || options.cols > 256 || options.rows > 256))
+        return makeError(ErrorKind::Usage, "grid " + std::to_string(options.cols) + "x" +
+                                               std::to_string(options.rows) +
+                                               " is not possible; use 1x1 to 256x256, e.g. 16x9");
+    for (const Rect& r : options.rois)
+        if (r.w <= 0 || r.h <= 0 || r.x < 0 || r.y < 0)
+            return makeError(ErrorKind::Usage,
+                             "ROI " + std::to_string(r.x) + "," + std::to_string(r.y) + "," +
+                                 std::to_string(r.w) + "," + std::to_string(r.h) +
+                                 " is empty or negative; give x,y,w,h with w and h above 0");
+    return std::unique_ptr<Analyzer>(new Analyzer(std::move(impl)));
+}
+
+double Analyzer::lastNoiseSigma() const {
+    return impl_->noiseSigma;
+}
+
+Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
+    auto luma = impl_->converter.toLuma8(frame);
+    if (!luma) return luma.error();
+    const Luma8& img = *luma;
+    const AnalysisOptions& o = impl_->options;
+
+    FrameAnalysis a;
+    a.frame = index;
+    a.timestampNs = frame.timestampNs;
+    a.lens = frame.lens;
+    a.width = img.width;
+    a.height = img.height;
+    a.metric = std::string(operatorName(impl_->params.op));
+
+    std::vector<Rect> rects;
+    if (o.rois.empty()) {
+        rects = gridRegions(img.width, img.height, o.cols, o.rows);
+        if (rects.empty())
+            return makeError(ErrorKind::Usage,
+                             "grid " + std::to_string(o.cols) + "x" + std::to_string(o.rows) +
+                                 " has more cells than the " + std::to_string(img.width) + "x" +
+                                 std::to_string(img.height) +
+                                 " frame has pixels; use a coarser grid");
+    } else {
+        for (const Rect& r : o.rois) {
+            if (r.x + r.w > img.width || r.y + r.h > img.height)
+                return makeError(ErrorKind::Usage,
+                                 "ROI " + std::to_string(r.x) + "," + std::to_string(r.y) + "," +
+                                     std::to_string(r.w) + "," + std::to_string(r.h) +
+                                     " reaches outside the " + std::to_string(img.width) + "x" +
+                                     std::to_string(img.height) + " frame");
+            rects.push_back(r);
+        }
+    }
+
+    impl_->noiseSigma = estimateNoiseSigma(img);
+    a.noiseSigma = impl_->noiseSigma;
+    SharpnessParams params = impl_->params;
+    params.noiseSigma = impl_->noiseSigma;
+    std::vector<double> scores(rects.size());
+    sharpness(img, rects, params, scores);
+
+    a.regions.resize(rects.size());
+    for (size_t i = 0; i < rects.size(); ++i) {
+        RegionResult& r = a.regions[i];
+        if (o.rois.empty()) {
+            r.col = static_cast<int>(i % o.cols);
+            r.row = static_cast<int>(i / o.cols);
+        } else {
+            r.col = static_cast<int>(i);
+        }
+        r.rect = rects[i];
+        r.sharpness = scores[i];
+    }
+    if (o.measureBlur) {
+        // Blur costs far more than sharpness: spread the regions over the cores.
+        const auto work = [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) {
+                const BlurEstimate b = measureBlur(img, rects[i]);
+                RegionResult& r = a.regions[i];
+                r.edgeWidthPx = b.edgeWidthPx;
+                r.blurSigmaPx = b.sigmaPx;
+                r.blurWidthPx = b.discDiameterPx;
+                r.confidence = b.confidence;
+            }
+        };
+        const size_t n = rects.size();
+        const unsigned threads = std::min<unsigned>(
+            std::max(1u, std::thread::hardware_concurrency()), static_cast<unsigned>(n));
+        std::vector<std::future<void>> jobs;
+        for (unsigned t = 1; t < threads; ++t)
+            jobs.push_back(
+                std::async(std::launch::async, work, n * t / threads, n * (t + 1) / threads));
+        work(0, n / std::max(1u, threads));
+        for (auto& j : jobs)
+            j.get();
+    }
+    return a;
+}
+
+}  // namespace infocus

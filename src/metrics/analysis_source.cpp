@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+// Analysis of a whole source, kept apart from the analyser so that code measuring frames it
+// already has does not pull in every frame source.
+#include "infocus/analysis.h"
+#include "infocus/source.h"
+
+namespace infocus {
+
+Status analyzeSource(std::string_view source, const AnalysisOptions& options, uint64_t maxFrames,
+                     const AnalysisSink& sink) {
+    auto analyzer = Analyzer::create(options);
+    if (!analyzer) return analyzer.error();
+    auto src = openSource(source);
+    if (!src) return src.error();
+    FrameSource& s = **src;
+    if (auto st = s.start(); !st) return st.error();
+    Status result;
+    for (uint64_t i = 0; maxFrames == 0 || i < maxFrames; ++i) {
+        auto frame = s.next();
+        if (!frame) {
+            if (frame.error().kind != ErrorKind::EndOfStream) result = frame.error();
+            break;
+        }
+        auto a = (*analyzer)->analyze(*frame, i);
+        if (!a) {
+            result = a.error();
+            break;
+        }
+        if (auto st = sink(*a); !st) {
+            result = st;
+            break;
+        }
+    }
+    s.stop();
+    return result;
+}
+
+}  // namespace infocus
