@@ -8,7 +8,9 @@ namespace infocus::bench {
 
 void runAll(const BenchOptions& options, const RowSink& sink) {
     // The registry of benchmarks, in output order.
+    benchSharpness(options, sink);
     benchMjpeg(options, sink);
+    benchBlur(options, sink);
 }
 
 double medianMs(const std::function<void()>& fn, double budgetS) {

@@ -37,7 +37,31 @@ void runAll(const BenchOptions& options, const RowSink& sink);
 double medianMs(const std::function<void()>& fn, double budgetS);
 
 // Registered benchmarks (bench/bench.cpp lists them).
+/// Sharpness grid (16×9, default operator) vs cv::Laplacian + cv::meanStdDev per region, at VGA,
+/// 720p, 1080p and 4K, one thread each; plus the per-frame noise estimate.
+void benchSharpness(const BenchOptions& options, const RowSink& sink);
+
 /// MJPEG luma-only decode (infocus) vs full-colour RGB decode of the same 1080p JPEG.
 void benchMjpeg(const BenchOptions& options, const RowSink& sink);
+/// Blur width (measureBlur) for every region of a 16×9 grid on a synthetic 1080p frame.
+void benchBlur(const BenchOptions& options, const RowSink& sink);
+
+/// One line of the blur accuracy table: a PSF of known size measured at every edge angle.
+struct AccuracyRow {
+    std::string model;                              ///< "disc d" (diameter) or "gauss s" (σ)
+    double truePx = 0.0;                            ///< the true d or σ, pixels
+    double noisePct = 0.0;                          ///< noise σ, percent of the edge contrast
+    std::vector<std::optional<double>> measuredPx;  ///< per accuracyAngles(); empty: no edge
+    double worstErrorPct = 0.0;                     ///< over the angles; 100 when one found no edge
+    double tolerancePct = 0.0;                      ///< DESIGN.md target for this model
+    bool inTarget = false;                          ///< size inside the target range
+    bool pass = false;                              ///< worstErrorPct within tolerancePct
+};
+using AccuracySink = std::function<void(const AccuracyRow&)>;
+/// Edge normal angles (degrees) of the accuracy table's columns.
+const std::vector<double>& accuracyAngles();
+/// Measures synthetic edges (disc d 1–30 px, Gaussian σ 0.5–10 px, angles 0–45°, noise 0–2 % of
+/// the contrast, 8-bit, pixel-integrated) and hands each row to @p sink.
+void runAccuracy(const AccuracySink& sink);
 
 }  // namespace infocus::bench

@@ -157,7 +157,8 @@ struct EsfFit {
     bool ok = false;
     bool needWider = false;  // the edge's spread does not fit in the sampled width
     double mean = 0, varLsf = 0, lo = 0, contrast = 0, noise = 0, rise = 0, binVar = 0;
-    double overshoot = 0;  // largest excursion past a plateau, fraction of the contrast
+    double overshoot = 0;      // largest excursion past a plateau, fraction of the contrast
+    double plateauPixels = 0;  // pixels beside the window that set the plateau levels
 };
 
 // Second moment of the line spread from the binned ESF, in a window grown or shrunk to 4 σ about
@@ -214,6 +215,7 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
         f.lo = lo;
         f.mean = mu;
         f.noise = npv > 0 ? std::sqrt(pv / npv) : 0.0;
+        f.plateauPixels = npv;
         const double newRadius = 4.0 * std::sqrt(std::max(var, 0.05)) + 1.0;
         const bool converged = std::abs(newRadius - radius) < 0.05;
         radius = newRadius;
@@ -293,7 +295,8 @@ std::optional<EdgeMeasurement> measureEdge(const Luma8& img, const Bounds& b, co
     const double threshold = 0.2 * g;
     double straight = 0.0;
     for (int pass = 0; pass < 6; ++pass) {
-        for (int it = 0; it < 2; ++it) {
+        // Two refinements from the seed's rough normal, one after each widening.
+        for (int it = 0; it < (pass == 0 ? 2 : 1); ++it) {
             straight = refineGeometry(img, b, patch, threshold);
             if (straight < 0.0) return std::nullopt;
         }
@@ -303,7 +306,7 @@ std::optional<EdgeMeasurement> measureEdge(const Luma8& img, const Bounds& b, co
         if (f.ok && (f.lo <= kClipLow || f.lo + f.contrast >= kClipHigh)) return std::nullopt;
         // An LSF narrower than half the pixel's own spread is no imaged edge (JPEG block seams,
         // a window collapsed on clutter), and a fit without plateau pixels has nothing to trust.
-        if (f.ok && (f.varLsf < 0.5 * kPixelVariance || f.noise <= 0.0)) return std::nullopt;
+        if (f.ok && (f.varLsf < 0.5 * kPixelVariance || f.plateauPixels == 0)) return std::nullopt;
         if (f.ok) {
             EdgeMeasurement m;
             m.cx = patch.cx + f.mean * patch.nx;
@@ -366,7 +369,7 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
     std::vector<Patch> used;
     int attempts = 0;
     for (const Candidate& c : cands) {
-        if (static_cast<int>(out.size()) >= maxEdges || attempts >= 3 * maxEdges + 4) break;
+        if (static_cast<int>(out.size()) >= maxEdges || attempts >= maxEdges + 2) break;
         // Skip seeds on an edge already measured (or already rejected).
         const double px = c.x + 0.5, py = c.y + 0.5;
         const bool covered = std::any_of(used.begin(), used.end(), [&](const Patch& p) {
@@ -386,7 +389,7 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
                 best = m;
                 bestPatch = patch;
             }
-            if (best && best->quality > 0.5) break;
+            if (best && best->quality > 0.3) break;
         }
         used.push_back(bestPatch);
         if (best) out.push_back(*best);

@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+// Blur width for every region of a 16×9 grid on a realistic 1080p frame.
+#include "bench/bench.h"
+#include "infocus/blur.h"
+#include "infocus/synth.h"
+
+namespace infocus::bench {
+
+namespace {
+
+// Natural-like texture (dead leaves) with a few slanted squares, defocused by a 4 px disc,
+// 8-bit with 1 grey level of noise: the kind of frame a focus assistant sees.
+Image<uint8_t> makeFrame(int w, int h) {
+    synth::SharpCanvas canvas = synth::makeCanvas(w, h, 2);
+    synth::paintDeadLeaves(canvas, 2024, 4.0, 120.0);
+    for (int i = 0; i < 12; ++i)
+        synth::paint(canvas, synth::squareScene(160.0 + 140.0 * i, 200.0 + 60.0 * (i % 5), 90.0,
+                                                5.0 + 7.0 * i, i % 2 ? 30.0f : 220.0f));
+    return synth::toLuma8(synth::renderSharp(canvas, {synth::Psf::disc(4.0), 2, 1.0, 7}).pixels);
+}
+
+}  // namespace
+
+void benchBlur(const BenchOptions& options, const RowSink& sink) {
+    const int w = 1920, h = 1080, cols = 16, rows = 9;
+    const Image<uint8_t> frame = makeFrame(w, h);
+    const Luma8 view = frame.view();
+    std::vector<Rect> regions;
+    for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < cols; ++c)
+            regions.push_back(Rect{c * w / cols, r * h / rows, (c + 1) * w / cols - c * w / cols,
+                                   (r + 1) * h / rows - r * h / rows});
+    int measured = 0;
+    const double ms = medianMs(
+        [&] {
+            measured = 0;
+            for (const Rect& r : regions)
+                measured += measureBlur(view, r).sigmaPx.has_value();
+        },
+        options.secondsPerCase);
+    sink(BenchRow{"blur", w, h, ms, std::nullopt, "",
+                  "16x9 regions, " + std::to_string(measured) + " with an edge, one thread"});
+}
+
+}  // namespace infocus::bench
