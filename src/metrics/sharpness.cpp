@@ -288,8 +288,8 @@ double estimateNoiseSigma(const Luma8& img) {
         const Rect a = validArea(img, r, 1);
         double sum = 0;
         long count = 0;
-        // Every second row: the estimate needs statistics, not every pixel.
-        for (int y = a.y; y < a.y + a.h; y += 2) {
+        // Every fourth row: the estimate needs statistics, not every pixel.
+        for (int y = a.y; y < a.y + a.h; y += 4) {
             const uint8_t* u = img.row(y - 1);
             const uint8_t* c = img.row(y);
             const uint8_t* d = img.row(y + 1);
