@@ -36,5 +36,6 @@ int usageError(const std::string& command, const std::string& message);
 
 // One entry point per command file (src/cli/cmd_NAME.cpp).
 Command addBenchCommand(CLI::App& app);
+Command addRecordCommand(CLI::App& app);
 
 }  // namespace infocus::cli

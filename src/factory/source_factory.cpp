@@ -2,6 +2,7 @@
 // The one place that knows which backends were built: every HAVE_* test for a backend is here.
 #include "infocus/source.h"
 #include "infocus_config.h"
+#include "replay/replay_sources.h"
 
 namespace infocus {
 
@@ -32,6 +33,8 @@ Result<std::unique_ptr<FrameSource>> openSource(const SourceSpec& spec) {
                                                      "rebuild with -Dlibcamera=enabled");
 #endif
     }
+    if (spec.kind == "path") return replay::openPathSource(spec);
+    if (spec.kind == "sim") return replay::openSimSource(spec);
     return makeError(ErrorKind::Usage,
                      "source '" + spec.text + "': unknown source kind '" + spec.kind + "'");
 }

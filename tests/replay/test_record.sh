@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# `infocus record` end to end: sim: → recording → re-record is bit-exact; a recording killed with
+# SIGKILL mid-stream replays every completed frame; SIGINT stops cleanly; bad input fails clearly.
+# Usage: test_record.sh PATH_TO_INFOCUS
+set -u
+bin=${1:?path to infocus}
+work=$(mktemp -d /tmp/infocus-test-record-XXXXXX)
+trap 'rm -rf "$work"' EXIT
+pass=0 fail=0
+check() { # check DESCRIPTION CONDITION...
+	local what=$1
+	shift
+	if "$@"; then pass=$((pass + 1)); else
+		echo "FAIL: $what"
+		fail=$((fail + 1))
+	fi
+}
+size() { stat -c %s "$1"; }
+# One GREY 320x240 record: 128-byte header + 76800 bytes of pixels (replay/recording_format.h).
+rec=$((128 + 320 * 240))
+
+# 1. Record and replay: re-recording a recording reproduces its frame file byte for byte.
+out=$("$bin" record sim:scene=tilted,size=320x240,pace=fast,noise=0.01 -o "$work/a" --frames 12 2>&1)
+check "record sim: exits 0 ($out)" test $? -eq 0
+check "summary names 12 frames ($out)" grep -q "recorded 12 frames" <<<"$out"
+check "frame file holds 12 records" test "$(size "$work/a/frames.bin")" -eq $((12 * rec))
+"$bin" record "$work/a" -o "$work/b" >/dev/null 2>&1
+check "re-record exits 0" test $? -eq 0
+check "re-recorded frames are bit-exact" cmp -s "$work/a/frames.bin" "$work/b/frames.bin"
+
+# 2. SIGKILL mid-stream: every completed frame replays, the torn one is reported.
+"$bin" record sim:size=320x240,fps=200 -o "$work/k" --frames 100000 >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 100); do
+	[ -f "$work/k/frames.bin" ] && [ "$(size "$work/k/frames.bin")" -gt $((20 * rec)) ] && break
+	sleep 0.05
+done
+kill -KILL $pid
+wait $pid 2>/dev/null
+total=$(size "$work/k/frames.bin")
+complete=$((total / rec))
+check "killed recording wrote frames ($complete)" test "$complete" -ge 20
+out=$("$bin" record "$work/k" -o "$work/k2" 2>&1)
+st=$?
+if [ $((total % rec)) -ne 0 ]; then
+	check "torn last frame is reported, exit 1 ($st: $out)" test $st -eq 1
+	check "report names the frame file" grep -q "frames.bin: frame $complete .*incomplete" <<<"$out"
+else
+	check "kill fell between frames: clean replay ($st)" test $st -eq 0
+fi
+check "all $complete complete frames replayed" test "$(size "$work/k2/frames.bin")" -eq $((complete * rec))
+check "replayed frames equal the recorded ones" cmp -s -n $((complete * rec)) "$work/k/frames.bin" "$work/k2/frames.bin"
+
+# 3. SIGINT finishes the recording cleanly with a summary.
+"$bin" record sim:size=320x240,fps=100 -o "$work/i" >"$work/i.out" 2>&1 &
+pid=$!
+sleep 0.5
+kill -INT $pid
+wait $pid
+st=$?
+check "SIGINT exits 0 ($st)" test $st -eq 0
+check "SIGINT summary" grep -q "stopped by signal" "$work/i.out"
+check "SIGINT leaves whole frames only" test $(($(size "$work/i/frames.bin") % rec)) -eq 0
+
+# 4. Bad input: clear errors, non-zero exits, no crash.
+out=$("$bin" record "$work/missing" -o "$work/m" 2>&1)
+check "missing recording exits 1 ($out)" test $? -eq 1
+check "missing recording is named" grep -q "$work/missing" <<<"$out"
+sed -i 's/"format_version": 1/"format_version": 9/' "$work/b/header.json"
+out=$("$bin" record "$work/b" -o "$work/n" 2>&1)
+check "newer format version exits 1 ($out)" test $? -eq 1
+check "newer format version is explained" grep -q "version 9.*newer infocus" <<<"$out"
+printf 'not a picture' >"$work/bad.png"
+out=$("$bin" record "$work/bad.png" -o "$work/p" 2>&1)
+check "unreadable image exits 1 ($out)" test $? -eq 1
+check "unreadable image is named" grep -q "bad.png" <<<"$out"
+out=$("$bin" record sim:scene=cube -o "$work/s" 2>&1)
+check "bad sim option exits 2 ($out)" test $? -eq 2
+out=$("$bin" record sim: -o "$work/a" --frames 1 2>&1)
+check "non-empty output directory exits 2 ($out)" test $? -eq 2
+out=$("$bin" record sim: -o "$work/x" --frames 3 --seconds 1 2>&1)
+check "--frames with --seconds exits 2" test $? -eq 2
+
+echo "record: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
