@@ -59,6 +59,7 @@ struct DofResult {
     double magnification = 0.0;       ///< f/(u − f) at the focus distance
     double hyperfocal = 0.0;          ///< H = f²/(N c) + f (far limit ∞ when focused here)
     double hyperfocalSimple = 0.0;    ///< H' = f²/(N c), the common simplified definition
+    double hyperfocalNear = 0.0;      ///< near limit when focused at H (H/2 from the lens)
     DofLimits exact;                  ///< exact thin-lens limits, from the lecture's blur model
     DofLimits approximate;            ///< approximation near ≈ H'u/(H'+u), far ≈ H'u/(H'−u)
     double frontDepth = 0.0;          ///< focus − near, metres

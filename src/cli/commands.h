@@ -36,6 +36,8 @@ int usageError(const std::string& command, const std::string& message);
 
 // One entry point per command file (src/cli/cmd_NAME.cpp).
 Command addBenchCommand(CLI::App& app);
+Command addDofCommand(CLI::App& app);
+Command addDepthCommand(CLI::App& app);
 Command addRecordCommand(CLI::App& app);
 
 }  // namespace infocus::cli

@@ -120,7 +120,9 @@ std::optional<DofResult> depthOfField(const DofInput& in) {
     r.magnification = *magnification(f, *u);
     r.hyperfocal = hyperfocalDistance(lens, in.coc);
     r.hyperfocalSimple = r.hyperfocal - f;
+    r.hyperfocalNear = r.hyperfocal / 2.0;  // u f²/(f² + f²) at u = H
     if (in.from == DistanceOrigin::Sensor) {
+        r.hyperfocalNear = sensorOrigin(f, r.hyperfocal, r.hyperfocalNear);
         // A hyperfocal distance is a focus setting, so its sensor is wherever that focus puts it.
         r.hyperfocal = sensorOrigin(f, r.hyperfocal, r.hyperfocal);
         r.hyperfocalSimple = sensorOrigin(f, r.hyperfocalSimple, r.hyperfocalSimple);

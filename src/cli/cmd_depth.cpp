@@ -1,0 +1,332 @@
+// SPDX-License-Identifier: MIT
+// `infocus depth`: per-region depth from blur width and the in-focus plane, from `analyze` output
+// (JSONL) or straight from a source.
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <regex>
+#include <string>
+
+#include "commands.h"
+#include "infocus/analysis.h"
+#include "infocus/plane_fit.h"
+#include "lens_options.h"
+
+namespace infocus::cli {
+
+namespace {
+
+constexpr const char* kName = "depth";
+
+struct DepthArgs {
+    std::string input;
+    LensOptions lens;
+    double blurFloorPx = 0.0;
+    double minConfidence = 0.1;
+    std::string grid = "16x9";
+    uint64_t frames = 1;
+    bool json = false;
+};
+
+using Json = nlohmann::ordered_json;
+
+Json metresOrNull(const std::optional<double>& v) {
+    return v && std::isfinite(*v) ? Json(*v) : Json(nullptr);
+}
+
+// What one frame needs beyond its measurements: a complete lens with a focus distance.
+struct FrameLens {
+    optics::ThinLens lens;
+    double focus = 0.0;  // metres from the lens
+    double pitch = 0.0;  // metres per pixel
+    std::string focusSource;
+};
+
+Result<FrameLens> lensFor(const LensValues& v, const FrameAnalysis& a) {
+    const auto usage = [](const std::string& m) { return makeError(ErrorKind::Usage, m); };
+    if (!v.focalLength)
+        return usage("give the focal length, e.g. --focal 4.74mm (or --lens rpi-cam3)");
+    if (!v.fNumber) return usage("give the aperture, e.g. --fnumber 1.8 (or --lens PRESET)");
+    if (!v.pixelPitch)
+        return usage(
+            "give the pixel pitch of the analysed image, e.g. --pixel-pitch 1.4um (for a "
+            "downscaled image, the sensor pitch times the scale factor)");
+    FrameLens fl;
+    fl.lens = {*v.focalLength, *v.fNumber};
+    fl.pitch = *v.pixelPitch;
+    if (v.focusDistance) {
+        fl.focus = *v.focusDistance;
+        fl.focusSource = "--focus";
+    } else if (a.lens && a.lens->dioptres) {
+        fl.focus = *a.lens->dioptres > 0.0 ? 1.0 / *a.lens->dioptres
+                                           : std::numeric_limits<double>::infinity();
+        fl.focusSource = "lens position of the frame";
+    } else {
+        return usage("give the focus distance, e.g. --focus 0.5m or --focus 2dpt (frame " +
+                     std::to_string(a.frame) + " carries no lens position in dioptres)");
+    }
+    if (!(fl.focus > fl.lens.focalLength))
+        return usage("the focus distance " + formatDistance(fl.focus) +
+                     " is at or inside the focal length; focus farther, e.g. --focus 1m");
+    return fl;
+}
+
+struct RegionDepth {
+    const RegionResult* region = nullptr;
+    std::optional<optics::DepthRoots> roots;
+    int side = 0;  // sign of the fitted signed blur; 0 when unknown
+};
+
+std::string lengthOrDash(const std::optional<double>& v) {
+    if (!v) return "-";
+    return formatDistance(*v);
+}
+
+Status processFrame(const FrameAnalysis& a, const DepthArgs& args, const LensValues& values) {
+    auto fl = lensFor(values, a);
+    if (!fl) return fl.error();
+    std::vector<RegionDepth> depths;
+    std::vector<optics::BlurSample> samples;
+    for (const auto& r : a.regions) {
+        RegionDepth d;
+        d.region = &r;
+        if (r.blurWidthPx && r.confidence >= args.minConfidence) {
+            d.roots = optics::depthFromBlur(fl->lens, fl->focus, *r.blurWidthPx * fl->pitch,
+                                            args.blurFloorPx * fl->pitch);
+            samples.push_back({r.rect.x + 0.5 * r.rect.w, r.rect.y + 0.5 * r.rect.h, *r.blurWidthPx,
+                               r.confidence});
+        }
+        depths.push_back(d);
+    }
+    optics::PlaneFitOptions fitOptions;
+    fitOptions.blurFloor = args.blurFloorPx;
+    const auto fit = optics::fitBlurPlane(samples, a.width, a.height, fitOptions);
+    std::optional<std::array<optics::ScenePlane, 2>> planes;
+    if (fit) {
+        planes = optics::scenePlanes(
+            *fit, {fl->lens, fl->focus, fl->pitch, 0.5 * a.width, 0.5 * a.height});
+        for (auto& d : depths)
+            if (d.roots) {
+                const double s = fit->signedAt(d.region->rect.x + 0.5 * d.region->rect.w,
+                                               d.region->rect.y + 0.5 * d.region->rect.h);
+                d.side = s > 0.0 ? 1 : (s < 0.0 ? -1 : 0);
+            }
+    }
+    const double farLimit = optics::farRootLimit(fl->lens, fl->focus).value_or(0.0);
+
+    if (args.json) {
+        Json j;
+        j["frame"] = a.frame;
+        j["width"] = a.width;
+        j["height"] = a.height;
+        j["focus_m"] = metresOrNull(fl->focus);
+        j["focus_source"] = fl->focusSource;
+        j["focal_length_m"] = fl->lens.focalLength;
+        j["f_number"] = fl->lens.fNumber;
+        j["pixel_pitch_um"] = fl->pitch * 1e6;
+        j["blur_floor_px"] = args.blurFloorPx;
+        j["far_root_limit_px"] = farLimit / fl->pitch;
+        Json regions = Json::array();
+        for (const auto& d : depths) {
+            Json o;
+            o["col"] = d.region->col;
+            o["row"] = d.region->row;
+            o["x"] = d.region->rect.x;
+            o["y"] = d.region->rect.y;
+            o["w"] = d.region->rect.w;
+            o["h"] = d.region->rect.h;
+            o["blur_width_px"] = metresOrNull(d.region->blurWidthPx);
+            o["confidence"] = d.region->confidence;
+            if (d.roots) {
+                o["defocus_px"] = d.roots->defocusBlur / fl->pitch;
+                o["near_m"] = d.roots->nearRoot;
+                o["far_m"] = metresOrNull(d.roots->farRoot);
+            } else {
+                o["defocus_px"] = nullptr;
+                o["near_m"] = nullptr;
+                o["far_m"] = nullptr;
+            }
+            o["side"] = d.side;
+            regions.push_back(std::move(o));
+        }
+        j["regions"] = std::move(regions);
+        if (fit) {
+            Json p;
+            p["p0_px"] = fit->p[0];
+            p["p1"] = fit->p[1];
+            p["p2"] = fit->p[2];
+            p["gradient"] = fit->gradient;
+            p["line_angle_deg"] = fit->lineAngleDeg;
+            if (fit->inFocusLine) {
+                const auto& s = *fit->inFocusLine;
+                p["in_focus_line_px"] = {s.x0, s.y0, s.x1, s.y1};
+            } else {
+                p["in_focus_line_px"] = nullptr;
+            }
+            p["rms_residual_px"] = fit->rmsResidual;
+            p["samples"] = fit->samples;
+            p["inliers"] = fit->inliers;
+            Json hyps = Json::array();
+            if (planes)
+                for (const auto& s : *planes)
+                    hyps.push_back({{"a", s.a},
+                                    {"b", s.b},
+                                    {"c", s.c},
+                                    {"tilt_deg", s.tiltDeg},
+                                    {"axis_deg", s.axisAngleDeg},
+                                    {"recedes_towards_deg", s.recedesTowardsDeg},
+                                    {"depth_on_axis_m", metresOrNull(s.depthOnAxis)}});
+            p["scene_planes"] = std::move(hyps);
+            j["plane"] = std::move(p);
+        } else {
+            j["plane"] = nullptr;
+        }
+        std::cout << j.dump() << std::endl;
+        return {};
+    }
+
+    std::printf("frame %llu  %dx%d  %g mm f/%g  focus %s (%s)  pitch %.3g um\n",
+                static_cast<unsigned long long>(a.frame), a.width, a.height,
+                fl->lens.focalLength * 1e3, fl->lens.fNumber, formatDistance(fl->focus).c_str(),
+                fl->focusSource.c_str(), fl->pitch * 1e6);
+    std::printf("  blur beyond %.1f px has no far root (a point at infinity blurs that much)\n\n",
+                farLimit / fl->pitch);
+    std::printf("  col row   blur px  conf   near root     far root   side\n");
+    for (const auto& d : depths) {
+        const auto& r = *d.region;
+        char blur[32];
+        if (r.blurWidthPx)
+            std::snprintf(blur, sizeof blur, "%8.2f", *r.blurWidthPx);
+        else
+            std::snprintf(blur, sizeof blur, "%8s", "-");
+        std::printf("  %3d %3d  %s  %4.2f  %10s  %11s   %s\n", r.col, r.row, blur, r.confidence,
+                    d.roots ? formatDistance(d.roots->nearRoot).c_str() : "-",
+                    d.roots ? lengthOrDash(d.roots->farRoot).c_str() : "-",
+                    d.side > 0 ? "+" : (d.side < 0 ? "-" : " "));
+    }
+    if (!fit) {
+        std::printf(
+            "\n  in-focus plane: not enough regions with a blur measurement (need 3 "
+            "not on one line)\n\n");
+        return {};
+    }
+    std::printf("\n  in-focus plane  |p0 + p1 x + p2 y| fitted to %d of %d regions, rms %.2f px\n",
+                fit->inliers, fit->samples, fit->rmsResidual);
+    std::printf("  blur gradient   %.4g px per px; zero line at %.1f deg from the x axis\n",
+                fit->gradient, fit->lineAngleDeg);
+    if (fit->inFocusLine)
+        std::printf("  in-focus line   (%.0f, %.0f) to (%.0f, %.0f) px\n", fit->inFocusLine->x0,
+                    fit->inFocusLine->y0, fit->inFocusLine->x1, fit->inFocusLine->y1);
+    else
+        std::printf("  in-focus line   outside the image: every region is on one side of focus\n");
+    if (planes) {
+        for (int k = 0; k < 2; ++k) {
+            const auto& s = (*planes)[k];
+            std::printf(
+                "  %s  tilt %.2f deg about an axis at %.1f deg, receding towards %.0f "
+                "deg; on axis at %s (aX+bY+cZ=1: a=%.4g b=%.4g c=%.4g /m)\n",
+                k == 0 ? "if + is beyond focus " : "if + is before focus", s.tiltDeg,
+                s.axisAngleDeg, s.recedesTowardsDeg, formatDistance(s.depthOnAxis).c_str(), s.a,
+                s.b, s.c);
+        }
+        std::printf(
+            "  one focus setting cannot tell which side is nearer: regions marked + "
+            "share a side; a second focus setting decides it\n");
+    }
+    std::printf("\n");
+    return {};
+}
+
+bool isJsonlFile(const std::string& input) {
+    std::error_code ec;
+    return input.size() > 6 && input.ends_with(".jsonl") &&
+           std::filesystem::is_regular_file(input, ec);
+}
+
+int runDepth(const DepthArgs& args) {
+    auto values = args.lens.resolve();
+    if (!values) return reportError(kName, values.error());
+    if (!(args.blurFloorPx >= 0.0))
+        return usageError(kName, "--blur-floor must be 0 or more pixels, e.g. --blur-floor 1.5");
+    uint64_t frames = 0;
+    const auto sink = [&](const FrameAnalysis& a) -> Status {
+        ++frames;
+        return processFrame(a, args, *values);
+    };
+    if (args.input == "-" || isJsonlFile(args.input)) {
+        std::ifstream file;
+        if (args.input != "-") file.open(args.input);
+        std::istream& in = args.input == "-" ? std::cin : file;
+        std::string line;
+        uint64_t lineNo = 0;
+        while (std::getline(in, line)) {
+            ++lineNo;
+            if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+            auto a = parseJsonLine(line);
+            if (!a) {
+                auto e = a.error();
+                e.message = args.input + " line " + std::to_string(lineNo) + ": " + e.message;
+                return reportError(kName, e);
+            }
+            if (const Status st = sink(*a); !st) return reportError(kName, st.error());
+        }
+    } else {
+        AnalysisOptions options;
+        std::smatch m;
+        static const std::regex gridRe(R"((\d{1,3})x(\d{1,3}))");
+        if (!std::regex_match(args.grid, m, gridRe))
+            return usageError(kName, "--grid " + args.grid + ": give columns x rows, e.g. 16x9");
+        options.cols = std::stoi(m[1]);
+        options.rows = std::stoi(m[2]);
+        if (const Status st = analyzeSource(args.input, options, args.frames, sink); !st)
+            return reportError(kName, st.error());
+    }
+    if (frames == 0)
+        return reportError(
+            kName, makeError(ErrorKind::Corrupt, "'" + args.input +
+                                                     "' held no frame; give 'infocus analyze' "
+                                                     "output or a source that delivers frames"));
+    return 0;
+}
+
+}  // namespace
+
+Command addDepthCommand(CLI::App& app) {
+    auto args = std::make_shared<DepthArgs>();
+    CLI::App* sub = app.add_subcommand(
+        "depth", "Per-region depth from blur width, the in-focus line and the tilt of the scene");
+    sub->description(
+        "Depth from blur on the thin-lens model. Each region's blur width b gives two depths,\n"
+        "1/z = 1/u +- b/(A z_s), in front of and behind the in-focus distance u; a robust fit of\n"
+        "|p0 + p1 x + p2 y| to the blur map gives the in-focus line and the scene plane's tilt.\n"
+        "INPUT is 'infocus analyze' output (a .jsonl file, or - for stdin) or a source string.");
+    sub->add_option("INPUT", args->input, "analyze JSONL file, - (stdin), or a SOURCE")->required();
+    args->lens.add(sub, LensOptionSet{.coc = false, .pitch = true});
+    sub->add_option("--blur-floor", args->blurFloorPx,
+                    "Blur width (px) a perfectly focused region still measures; removed in "
+                    "quadrature")
+        ->capture_default_str();
+    sub->add_option("--min-confidence", args->minConfidence,
+                    "Ignore regions whose blur confidence is below this")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    sub->add_option("--grid", args->grid, "Regions as columns x rows (SOURCE input)")
+        ->capture_default_str();
+    sub->add_option("--frames", args->frames, "Frames to analyse (SOURCE input; 0: all)")
+        ->capture_default_str();
+    sub->add_flag("--json", args->json, "One JSON object per frame (JSONL)");
+    sub->footer(
+        "Examples:\n"
+        "  infocus analyze sim:scene=tilted -o tilt.jsonl\n"
+        "  infocus depth tilt.jsonl --lens rpi-cam3 --focus 0.5m\n"
+        "  infocus depth sim:scene=tilted --focal 25mm --fnumber 1.4 --pixel-pitch 3.45um "
+        "--focus 2dpt --json");
+    return {sub, [args] { return runDepth(*args); }};
+}
+
+}  // namespace infocus::cli
