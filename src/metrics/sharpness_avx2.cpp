@@ -13,117 +13,161 @@ namespace infocus::detail {
 
 namespace {
 
-void lapvSumsAvx2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumL2) {
-    const __m256i ones = _mm256_set1_epi16(1);
-    const __m256i zero = _mm256_setzero_si256();
-    int64_t accI = 0, accL2 = 0;
-    for (int y = a.y; y < a.y + a.h; ++y) {
-        const uint8_t* c = img.row(y);
-        const uint8_t* u = img.row(y - 1);
-        const uint8_t* d = img.row(y + 1);
-        __m256i l2 = _mm256_setzero_si256();  // 8 × i32, at most 2·1020² per lane per step
-        __m256i si = _mm256_setzero_si256();  // 4 × i64 from sad
-        int x = a.x;
-        const int end = a.x + a.w;
-        for (; x + 32 <= end; x += 32) {
-            const __m256i vc = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(c + x));
-            const __m256i vl = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(c + x - 1));
-            const __m256i vr = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(c + x + 1));
-            const __m256i vu = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(u + x));
-            const __m256i vd = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(d + x));
-            si = _mm256_add_epi64(si, _mm256_sad_epu8(vc, zero));
-            // Pairs (u,d) and (l,r) summed to 16 bits by maddubs with ones: u+d and l+r.
-            const __m256i ones8 = _mm256_set1_epi8(1);
-            const __m256i udLo = _mm256_maddubs_epi16(_mm256_unpacklo_epi8(vu, vd), ones8);
-            const __m256i udHi = _mm256_maddubs_epi16(_mm256_unpackhi_epi8(vu, vd), ones8);
-            const __m256i lrLo = _mm256_maddubs_epi16(_mm256_unpacklo_epi8(vl, vr), ones8);
-            const __m256i lrHi = _mm256_maddubs_epi16(_mm256_unpackhi_epi8(vl, vr), ones8);
-            const __m256i cLo = _mm256_slli_epi16(_mm256_unpacklo_epi8(vc, zero), 2);
-            const __m256i cHi = _mm256_slli_epi16(_mm256_unpackhi_epi8(vc, zero), 2);
-            const __m256i lapLo = _mm256_sub_epi16(_mm256_add_epi16(udLo, lrLo), cLo);
-            const __m256i lapHi = _mm256_sub_epi16(_mm256_add_epi16(udHi, lrHi), cHi);
-            l2 = _mm256_add_epi32(l2, _mm256_madd_epi16(lapLo, lapLo));
-            l2 = _mm256_add_epi32(l2, _mm256_madd_epi16(lapHi, lapHi));
-        }
-        (void)ones;
-        // Horizontal sums; i32 lanes cannot overflow within one row (≤ 2·1020²·w/16 < 2³¹
-        // for rows up to 16 000 px).
-        alignas(32) int32_t l2s[8];
-        alignas(32) int64_t sis[4];
-        _mm256_store_si256(reinterpret_cast<__m256i*>(l2s), l2);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(sis), si);
-        for (int i = 0; i < 8; ++i)
-            accL2 += l2s[i];
-        for (int i = 0; i < 4; ++i)
-            accI += sis[i];
-        for (; x < end; ++x) {
-            const int v = u[x] + d[x] + c[x - 1] + c[x + 1] - 4 * c[x];
-            accL2 += v * v;
-            accI += c[x];
-        }
-    }
-    sumI = accI;
-    sumL2 = accL2;
+inline __m256i load(const uint8_t* p) {
+    return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
 }
 
-// Tenengrad: Σ I and Σ (Gx² + Gy²) with the unscaled Sobel (8× the gradient). Each difference
-// pair comes from one maddubs over interleaved bytes with weights (w, −w).
-void tengSumsAvx2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG2) {
+// Byte mask selecting the pixels at or after @p skip in a 32-pixel window.
+inline __m256i tailMask(int skip) {
+    alignas(32) static const uint8_t ramp[32] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10,
+                                                 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21,
+                                                 22, 23, 24, 25, 26, 27, 28, 29, 30, 31};
+    // ramp > skip − 1 as signed bytes (all values < 128).
+    return _mm256_cmpgt_epi8(load(ramp), _mm256_set1_epi8(static_cast<char>(skip - 1)));
+}
+
+// Adds 8 i32 lanes into 4 i64 lanes (before they can overflow).
+inline __m256i widenAdd(__m256i acc64, __m256i v32) {
+    acc64 = _mm256_add_epi64(acc64, _mm256_cvtepi32_epi64(_mm256_castsi256_si128(v32)));
+    return _mm256_add_epi64(acc64, _mm256_cvtepi32_epi64(_mm256_extracti128_si256(v32, 1)));
+}
+
+inline int64_t sum64(__m256i v) {
+    alignas(32) int64_t s[4];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(s), v);
+    return s[0] + s[1] + s[2] + s[3];
+}
+
+// Σ I and Σ L² for the 32 pixels at x of rows u, c, d; with Masked, pixels before x + skip are
+// left out (the overlapping last window of a row).
+template <bool Masked>
+inline void lapvStep(const uint8_t* u, const uint8_t* c, const uint8_t* d, int x, __m256i mask,
+                     __m256i& l2, __m256i& si) {
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256i ones8 = _mm256_set1_epi8(1);
+    __m256i vc = load(c + x);
+    const __m256i vl = load(c + x - 1), vr = load(c + x + 1), vu = load(u + x), vd = load(d + x);
+    // Pairs (u,d) and (l,r) summed to 16 bits by maddubs with ones: u+d and l+r.
+    const __m256i udLo = _mm256_maddubs_epi16(_mm256_unpacklo_epi8(vu, vd), ones8);
+    const __m256i udHi = _mm256_maddubs_epi16(_mm256_unpackhi_epi8(vu, vd), ones8);
+    const __m256i lrLo = _mm256_maddubs_epi16(_mm256_unpacklo_epi8(vl, vr), ones8);
+    const __m256i lrHi = _mm256_maddubs_epi16(_mm256_unpackhi_epi8(vl, vr), ones8);
+    const __m256i cLo = _mm256_slli_epi16(_mm256_unpacklo_epi8(vc, zero), 2);
+    const __m256i cHi = _mm256_slli_epi16(_mm256_unpackhi_epi8(vc, zero), 2);
+    __m256i lapLo = _mm256_sub_epi16(_mm256_add_epi16(udLo, lrLo), cLo);
+    __m256i lapHi = _mm256_sub_epi16(_mm256_add_epi16(udHi, lrHi), cHi);
+    if constexpr (Masked) {
+        vc = _mm256_and_si256(vc, mask);
+        lapLo = _mm256_and_si256(lapLo, _mm256_unpacklo_epi8(mask, mask));
+        lapHi = _mm256_and_si256(lapHi, _mm256_unpackhi_epi8(mask, mask));
+    }
+    si = _mm256_add_epi64(si, _mm256_sad_epu8(vc, zero));
+    l2 = _mm256_add_epi32(l2, _mm256_madd_epi16(lapLo, lapLo));
+    l2 = _mm256_add_epi32(l2, _mm256_madd_epi16(lapHi, lapHi));
+}
+
+// Σ I and Σ (Gx² + Gy²) of the unscaled Sobel for 32 pixels; each difference pair comes from one
+// maddubs over interleaved bytes with weights (w, −w).
+template <bool Masked>
+inline void tengStep(const uint8_t* u, const uint8_t* c, const uint8_t* d, int x, __m256i mask,
+                     __m256i& g2, __m256i& si) {
     const __m256i zero = _mm256_setzero_si256();
     const __m256i p1 = _mm256_set1_epi16(static_cast<int16_t>(0xff01));  // bytes (+1, −1)
     const __m256i p2 = _mm256_set1_epi16(static_cast<int16_t>(0xfe02));  // bytes (+2, −2)
-    int64_t accI = 0, accG = 0;
-    const auto load = [](const uint8_t* p) {
-        return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
+    const __m256i ul = load(u + x - 1), um = load(u + x), ur = load(u + x + 1);
+    const __m256i cl = load(c + x - 1), cr = load(c + x + 1);
+    const __m256i dl = load(d + x - 1), dm = load(d + x), dr = load(d + x + 1);
+    __m256i cm = load(c + x);
+    if constexpr (Masked) cm = _mm256_and_si256(cm, mask);
+    si = _mm256_add_epi64(si, _mm256_sad_epu8(cm, zero));
+    const auto diff = [](__m256i plus, __m256i minus, __m256i w, bool hi) {
+        const __m256i pair =
+            hi ? _mm256_unpackhi_epi8(plus, minus) : _mm256_unpacklo_epi8(plus, minus);
+        return _mm256_maddubs_epi16(pair, w);
     };
+    for (bool hi : {false, true}) {
+        __m256i gx = _mm256_add_epi16(_mm256_add_epi16(diff(ur, ul, p1, hi), diff(cr, cl, p2, hi)),
+                                      diff(dr, dl, p1, hi));
+        __m256i gy = _mm256_add_epi16(_mm256_add_epi16(diff(dl, ul, p1, hi), diff(dm, um, p2, hi)),
+                                      diff(dr, ur, p1, hi));
+        if constexpr (Masked) {
+            const __m256i m16 =
+                hi ? _mm256_unpackhi_epi8(mask, mask) : _mm256_unpacklo_epi8(mask, mask);
+            gx = _mm256_and_si256(gx, m16);
+            gy = _mm256_and_si256(gy, m16);
+        }
+        g2 = _mm256_add_epi32(g2, _mm256_madd_epi16(gx, gx));
+        g2 = _mm256_add_epi32(g2, _mm256_madd_epi16(gy, gy));
+    }
+}
+
+// Runs Step over every valid pixel of @p a: whole 32-pixel windows, then one overlapping masked
+// window for the rest of a row. Needs a.w ≥ 32. The i32 sums are widened to i64 every 128
+// windows: a lane gains at most 8·1020² per window, so it cannot overflow before.
+template <
+    void (*Full)(const uint8_t*, const uint8_t*, const uint8_t*, int, __m256i, __m256i&, __m256i&),
+    void (*Tail)(const uint8_t*, const uint8_t*, const uint8_t*, int, __m256i, __m256i&, __m256i&)>
+void sums(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumSq) {
+    __m256i acc32 = _mm256_setzero_si256(), acc64 = _mm256_setzero_si256();
+    __m256i si = _mm256_setzero_si256();
+    const int end = a.x + a.w;
+    const int full = a.w / 32 * 32;
+    const __m256i mask = tailMask(32 - (a.w - full));
+    int windows = 0;
     for (int y = a.y; y < a.y + a.h; ++y) {
         const uint8_t* c = img.row(y);
         const uint8_t* u = img.row(y - 1);
         const uint8_t* d = img.row(y + 1);
-        __m256i g2 = _mm256_setzero_si256();
-        __m256i si = _mm256_setzero_si256();
-        int x = a.x;
-        const int end = a.x + a.w;
-        for (; x + 32 <= end; x += 32) {
-            const __m256i ul = load(u + x - 1), um = load(u + x), ur = load(u + x + 1);
-            const __m256i cl = load(c + x - 1), cm = load(c + x), cr = load(c + x + 1);
-            const __m256i dl = load(d + x - 1), dm = load(d + x), dr = load(d + x + 1);
-            si = _mm256_add_epi64(si, _mm256_sad_epu8(cm, zero));
-            const auto diff = [](__m256i plus, __m256i minus, __m256i w, bool hi) {
-                const __m256i pair =
-                    hi ? _mm256_unpackhi_epi8(plus, minus) : _mm256_unpacklo_epi8(plus, minus);
-                return _mm256_maddubs_epi16(pair, w);
-            };
-            for (bool hi : {false, true}) {
-                const __m256i gx =
-                    _mm256_add_epi16(_mm256_add_epi16(diff(ur, ul, p1, hi), diff(cr, cl, p2, hi)),
-                                     diff(dr, dl, p1, hi));
-                const __m256i gy =
-                    _mm256_add_epi16(_mm256_add_epi16(diff(dl, ul, p1, hi), diff(dm, um, p2, hi)),
-                                     diff(dr, ur, p1, hi));
-                g2 = _mm256_add_epi32(g2, _mm256_madd_epi16(gx, gx));
-                g2 = _mm256_add_epi32(g2, _mm256_madd_epi16(gy, gy));
-            }
+        for (int x = a.x; x < a.x + full; x += 32)
+            Full(u, c, d, x, mask, acc32, si);
+        if (full < a.w) Tail(u, c, d, end - 32, mask, acc32, si);
+        windows += a.w / 32 + 1;
+        if (windows >= 128) {
+            acc64 = widenAdd(acc64, acc32);
+            acc32 = _mm256_setzero_si256();
+            windows = 0;
         }
-        // i32 lanes: ≤ 4·2·1020² per 32 px step, safe for rows up to 8 000 px.
-        alignas(32) int32_t gs[8];
-        alignas(32) int64_t sis[4];
-        _mm256_store_si256(reinterpret_cast<__m256i*>(gs), g2);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(sis), si);
-        for (int i = 0; i < 8; ++i)
-            accG += gs[i];
-        for (int i = 0; i < 4; ++i)
-            accI += sis[i];
-        for (; x < end; ++x) {
+    }
+    acc64 = widenAdd(acc64, acc32);
+    sumI = sum64(si);
+    sumSq = sum64(acc64);
+}
+
+// Scalar sums for regions narrower than one vector.
+void lapvScalar(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumL2) {
+    sumI = sumL2 = 0;
+    for (int y = a.y; y < a.y + a.h; ++y) {
+        const uint8_t *c = img.row(y), *u = img.row(y - 1), *d = img.row(y + 1);
+        for (int x = a.x; x < a.x + a.w; ++x) {
+            const int v = u[x] + d[x] + c[x - 1] + c[x + 1] - 4 * c[x];
+            sumL2 += v * v;
+            sumI += c[x];
+        }
+    }
+}
+
+void tengScalar(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG2) {
+    sumI = sumG2 = 0;
+    for (int y = a.y; y < a.y + a.h; ++y) {
+        const uint8_t *c = img.row(y), *u = img.row(y - 1), *d = img.row(y + 1);
+        for (int x = a.x; x < a.x + a.w; ++x) {
             const int gx =
                 (u[x + 1] - u[x - 1]) + 2 * (c[x + 1] - c[x - 1]) + (d[x + 1] - d[x - 1]);
             const int gy = (d[x - 1] - u[x - 1]) + 2 * (d[x] - u[x]) + (d[x + 1] - u[x + 1]);
-            accG += gx * gx + gy * gy;
-            accI += c[x];
+            sumG2 += gx * gx + gy * gy;
+            sumI += c[x];
         }
     }
-    sumI = accI;
-    sumG2 = accG;
+}
+
+void lapvSumsAvx2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumL2) {
+    if (a.w < 32) return lapvScalar(img, a, sumI, sumL2);
+    sums<lapvStep<false>, lapvStep<true>>(img, a, sumI, sumL2);
+}
+
+void tengSumsAvx2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG2) {
+    if (a.w < 32) return tengScalar(img, a, sumI, sumG2);
+    sums<tengStep<false>, tengStep<true>>(img, a, sumI, sumG2);
 }
 
 }  // namespace
