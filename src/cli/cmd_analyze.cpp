@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // `infocus analyze`: per-region sharpness and blur width of every frame of a source, as JSONL or
 // CSV, written frame by frame so that nothing measured is lost when a later frame fails.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -47,6 +48,66 @@ void writeCsv(std::ostream& out, const FrameAnalysis& a, bool header) {
     }
 }
 
+// A frame as a person reads it: the sharpness grid and the blur-width grid, row by row.
+void writeTable(std::ostream& out, const FrameAnalysis& a, bool grid) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "frame %llu  %dx%d  t=%.3f s", (unsigned long long)a.frame,
+                  a.width, a.height, a.timestampNs * 1e-9);
+    out << buf;
+    if (a.lens) {
+        std::snprintf(buf, sizeof buf, "  lens %.4g %s", a.lens->value, a.lens->unit.c_str());
+        out << buf;
+    }
+    if (a.noiseSigma) {
+        std::snprintf(buf, sizeof buf, "  noise σ %.2f", *a.noiseSigma);
+        out << buf;
+    }
+    out << "\n";
+    if (!grid) {
+        for (const auto& r : a.regions) {
+            std::snprintf(buf, sizeof buf, "  roi %d (%d,%d %dx%d): %s %.4g", r.col, r.rect.x,
+                          r.rect.y, r.rect.w, r.rect.h, a.metric.c_str(), r.sharpness);
+            out << buf;
+            if (r.blurWidthPx) {
+                std::snprintf(buf, sizeof buf, "  blur %.2f px (σ %.2f px, confidence %.2f)",
+                              *r.blurWidthPx, r.blurSigmaPx.value_or(0), r.confidence);
+                out << buf;
+            }
+            out << "\n";
+        }
+        return;
+    }
+    int cols = 0, rows = 0;
+    double peak = 0;
+    for (const auto& r : a.regions) {
+        cols = std::max(cols, r.col + 1);
+        rows = std::max(rows, r.row + 1);
+        peak = std::max(peak, r.sharpness);
+    }
+    out << "  sharpness (" << a.metric << ", % of the sharpest region)";
+    for (int c = 0; c < std::max(0, cols * 5 - 38); ++c)
+        out << ' ';
+    out << "   blur width, px (disc diameter; - no edge)\n";
+    for (int row = 0; row < rows; ++row) {
+        out << "  ";
+        for (int c = 0; c < cols; ++c) {
+            const auto& r = a.regions[static_cast<size_t>(row * cols + c)];
+            std::snprintf(buf, sizeof buf, "%5.0f", peak > 0 ? 100 * r.sharpness / peak : 0.0);
+            out << buf;
+        }
+        out << "   ";
+        for (int c = 0; c < cols; ++c) {
+            const auto& r = a.regions[static_cast<size_t>(row * cols + c)];
+            if (r.blurWidthPx)
+                std::snprintf(buf, sizeof buf, "%6.1f", *r.blurWidthPx);
+            else
+                std::snprintf(buf, sizeof buf, "%6s", "-");
+            out << buf;
+        }
+        out << "\n";
+    }
+}
+
 int runAnalyze(const AnalyzeArgs& args) {
     const std::string cmd = "analyze";
     AnalysisOptions options;
@@ -66,8 +127,8 @@ int runAnalyze(const AnalyzeArgs& args) {
     }
     options.metric = args.metric;
     options.measureBlur = !args.noBlur;
-    if (args.format != "jsonl" && args.format != "csv")
-        return usageError(cmd, "--format " + args.format + ": use jsonl or csv");
+    if (args.format != "jsonl" && args.format != "csv" && args.format != "table")
+        return usageError(cmd, "--format " + args.format + ": use jsonl, csv or table");
 
     std::ofstream file;
     if (!args.output.empty() && args.output != "-") {
@@ -83,6 +144,8 @@ int runAnalyze(const AnalyzeArgs& args) {
         analyzeSource(args.source, options, args.frames, [&](const FrameAnalysis& a) -> Status {
             if (args.format == "csv")
                 writeCsv(out, a, written == 0);
+            else if (args.format == "table")
+                writeTable(out, a, options.rois.empty());
             else
                 out << toJsonLine(a) << '\n';
             out.flush();  // a frame measured is a frame kept
@@ -106,7 +169,7 @@ int runAnalyze(const AnalyzeArgs& args) {
 Command addAnalyzeCommand(CLI::App& app) {
     auto args = std::make_shared<AnalyzeArgs>();
     CLI::App* sub = app.add_subcommand(
-        "analyze", "Per-region sharpness and blur width of every frame of a source (JSONL or CSV)");
+        "analyze", "Per-region sharpness and blur width of every frame of a source");
     sub->add_option("SOURCE", args->source,
                     "Camera, recording, video, image, directory or glob of images, or sim:")
         ->required();
@@ -116,7 +179,9 @@ Command addAnalyzeCommand(CLI::App& app) {
     sub->add_option("--metric", args->metric,
                     "Focus operator: lapv, lapm, teng (default), tenv, brenner, glvn, dctr");
     sub->add_option("--frames", args->frames, "Stop after N frames (default: all)");
-    sub->add_option("--format", args->format, "jsonl or csv")->capture_default_str();
+    sub->add_option("--format", args->format,
+                    "jsonl (one object per frame), csv (one row per region) or table (for people)")
+        ->capture_default_str();
     sub->add_option("-o,--output", args->output, "Write to FILE instead of stdout");
     sub->add_flag("--no-blur", args->noBlur, "Sharpness only: skip the blur-width measurement");
     return {sub, [args] { return runAnalyze(*args); }};
