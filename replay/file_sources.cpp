@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -134,7 +135,11 @@ public:
         // Bytes per sample and chroma subsampling from the colour space tag.
         size_t bytes = 1;
         std::string sub = colour;
-        if (const size_t p = colour.find('p'); p != std::string::npos && colour != "420paldv") {
+        // A bit depth is given as "<subsampling>p<bits>", e.g. 420p10 (not the p of 420jpeg).
+        const size_t p = colour.find('p');
+        const bool digitsAfter = p != std::string::npos && p + 1 < colour.size() &&
+                                 colour.find_first_not_of("0123456789", p + 1) == std::string::npos;
+        if (p > 0 && digitsAfter && colour.find_first_not_of("0123456789") == p) {
             const int depth = std::atoi(colour.c_str() + p + 1);
             sub = colour.substr(0, p);
             if (depth == 10) {
@@ -372,10 +377,13 @@ public:
         std::unique_ptr<VideoReader> r(new VideoReader);
         r->path_ = path;
         r->text_ = text;
+        // FFmpeg first; other backends only as a fallback, quietly (they log every refusal).
+        const auto level = cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
         try {
-            r->cap_.open(path);
+            if (!r->cap_.open(path, cv::CAP_FFMPEG)) r->cap_.open(path, cv::CAP_ANY);
         } catch (const cv::Exception&) {
         }
+        cv::utils::logging::setLogLevel(level);
         if (!r->cap_.isOpened())
             return makeError(ErrorKind::Unsupported,
                              "cannot open " + path +

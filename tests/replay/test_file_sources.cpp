@@ -1,0 +1,264 @@
+// SPDX-License-Identifier: MIT
+// File sources: Y4M in every colour space (luma delivered), images (JPEG as the file's bytes in an
+// MJPEG frame, 8- and 16-bit PNG as GREY/Y16), directories and globs in name order, video files
+// through OpenCV, and clear errors for unreadable or missing files.
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cstring>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+#include <string>
+#include <vector>
+
+#include "infocus/source.h"
+#include "replay/replay_sources.h"
+
+using namespace infocus;
+
+namespace {
+
+std::string tempDir() {
+    char tmpl[] = "/tmp/infocus-test-files-XXXXXX";
+    REQUIRE(::mkdtemp(tmpl) != nullptr);
+    return tmpl;
+}
+
+Result<std::unique_ptr<FrameSource>> openPath(const std::string& text) {
+    auto spec = parseSourceSpec(text);
+    if (!spec) return spec.error();
+    return replay::openPathSource(*spec);
+}
+
+uint8_t luma(int x, int y, int frame) {
+    return static_cast<uint8_t>(x * 5 + y * 3 + frame * 17);
+}
+
+// Writes a Y4M file of @p frames frames; chroma bytes are 0xC5 so a reader that took them for
+// luma would fail the pattern check.
+void writeY4m(const std::string& path, const std::string& colour, int w, int h, int frames,
+              size_t chromaBytes, int bytesPerSample = 1) {
+    std::ofstream out(path, std::ios::binary);
+    out << "YUV4MPEG2 W" << w << " H" << h << " F25:1 Ip A1:1";
+    if (!colour.empty()) out << " C" << colour;
+    out << " XCOMMENT=test\n";
+    for (int f = 0; f < frames; ++f) {
+        out << (f == 1 ? "FRAME Ixyz\n" : "FRAME\n");  // frame parameters must be skipped
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (bytesPerSample == 2) {
+                    const uint16_t v = static_cast<uint16_t>(luma(x, y, f) * 4 + 1);  // 10-bit
+                    out.put(static_cast<char>(v & 0xff)).put(static_cast<char>(v >> 8));
+                } else {
+                    out.put(static_cast<char>(luma(x, y, f)));
+                }
+            }
+        for (size_t i = 0; i < chromaBytes * bytesPerSample; ++i)
+            out.put('\xC5');
+    }
+}
+
+std::vector<Frame> readAll(FrameSource& src, int* errors = nullptr) {
+    REQUIRE(src.start().ok());
+    std::vector<Frame> frames;
+    while (true) {
+        auto f = src.next();
+        if (!f && f.error().kind == ErrorKind::EndOfStream) break;
+        if (!f) {
+            if (errors) ++*errors;
+            continue;
+        }
+        frames.push_back(std::move(*f));
+    }
+    return frames;
+}
+
+}  // namespace
+
+TEST_CASE("Y4M: 420, 422, 444 and mono deliver the luma plane") {
+    const std::string dir = tempDir();
+    const int w = 9, h = 6;  // odd width: chroma planes round up
+    struct Case {
+        std::string colour;
+        size_t chroma;
+    };
+    const Case cases[] = {
+        {"", 2 * 5 * 3},  // default 420jpeg
+        {"420paldv", 2 * 5 * 3},
+        {"420mpeg2", 2 * 5 * 3},
+        {"422", 2 * 5 * 6},
+        {"444", 2 * 9 * 6},
+        {"mono", 0},
+    };
+    for (const Case& c : cases) {
+        INFO("colour space '" << c.colour << "'");
+        const std::string path = dir + "/v" + c.colour + ".y4m";
+        writeY4m(path, c.colour, w, h, 3, c.chroma);
+        auto src = openPath(path);
+        REQUIRE(src.ok());
+        REQUIRE((*src)->info().fps == Approx(25.0).epsilon(1e-12));
+        REQUIRE((*src)->info().frameCount == 3);
+        const auto frames = readAll(**src);
+        REQUIRE(frames.size() == 3);
+        for (int f = 0; f < 3; ++f) {
+            REQUIRE(frames[f].format == PixelFormat::GREY);
+            REQUIRE(frames[f].timestampNs == f * 40'000'000LL);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    REQUIRE(frames[f].planes[0].data[y * frames[f].planes[0].stride + x] ==
+                            luma(x, y, f));
+        }
+    }
+    SECTION("10-bit 4:2:0 becomes Y10") {
+        const std::string path = dir + "/p10.y4m";
+        writeY4m(path, "420p10", w, h, 2, 2 * 5 * 3, 2);
+        auto src = openPath(path);
+        REQUIRE(src.ok());
+        const auto frames = readAll(**src);
+        REQUIRE(frames.size() == 2);
+        REQUIRE(frames[1].format == PixelFormat::Y10);
+        const uint8_t* p = frames[1].planes[0].data + 2 * (2 * w + 3);
+        REQUIRE((p[0] | (p[1] << 8)) == luma(3, 2, 1) * 4 + 1);
+    }
+    SECTION("a truncated last frame is reported after the intact ones") {
+        const std::string path = dir + "/cut.y4m";
+        writeY4m(path, "mono", w, h, 3, 0);
+        std::ifstream in(path, std::ios::binary | std::ios::ate);
+        const auto size = static_cast<off_t>(in.tellg());
+        REQUIRE(::truncate(path.c_str(), size - 10) == 0);
+        auto src = openPath(path);
+        REQUIRE(src.ok());
+        REQUIRE((*src)->start().ok());
+        REQUIRE((*src)->next().ok());
+        REQUIRE((*src)->next().ok());
+        auto bad = (*src)->next();
+        REQUIRE(!bad.ok());
+        REQUIRE(bad.error().kind == ErrorKind::Corrupt);
+        REQUIRE_THAT(bad.error().message, Catch::Contains("cut.y4m") &&
+                                              Catch::Contains("frame 2") &&
+                                              Catch::Contains("incomplete"));
+        REQUIRE((*src)->stats().errors == 1);
+    }
+    SECTION("unsupported colour space") {
+        const std::string path = dir + "/c411.y4m";
+        writeY4m(path, "411", w, h, 1, 0);
+        auto src = openPath(path);
+        REQUIRE(!src.ok());
+        REQUIRE(src.error().kind == ErrorKind::Unsupported);
+        REQUIRE_THAT(src.error().message, Catch::Contains("411"));
+    }
+}
+
+TEST_CASE("images: JPEG as MJPEG bytes, PNG as GREY or Y16, directories and globs in order") {
+    const std::string dir = tempDir();
+    cv::Mat grey(12, 20, CV_8UC1), wide(12, 20, CV_16UC1), colour(12, 20, CV_8UC3);
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 20; ++x) {
+            grey.at<uint8_t>(y, x) = luma(x, y, 0);
+            wide.at<uint16_t>(y, x) = static_cast<uint16_t>(luma(x, y, 1) * 251);
+            colour.at<cv::Vec3b>(y, x) = {luma(x, y, 2), luma(x, y, 3), luma(x, y, 4)};
+        }
+    REQUIRE(cv::imwrite(dir + "/b_grey.png", grey));
+    REQUIRE(cv::imwrite(dir + "/c_wide.png", wide));
+    REQUIRE(cv::imwrite(dir + "/a_photo.JPG", colour));
+    std::ofstream(dir + "/notes.txt") << "not an image";  // ignored: not an image extension
+
+    auto src = openPath(dir);
+    REQUIRE(src.ok());
+    REQUIRE((*src)->info().frameCount == 3);
+    const auto frames = readAll(**src);
+    REQUIRE(frames.size() == 3);
+    // Name order: a_photo.JPG, b_grey.png, c_wide.png.
+    REQUIRE(frames[0].format == PixelFormat::MJPEG);
+    REQUIRE(frames[0].size == Size{20, 12});
+    std::ifstream jpg(dir + "/a_photo.JPG", std::ios::binary);
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(jpg)),
+                                  std::istreambuf_iterator<char>());
+    REQUIRE(frames[0].planes[0].size == bytes.size());
+    REQUIRE(std::memcmp(frames[0].planes[0].data, bytes.data(), bytes.size()) == 0);
+    REQUIRE(frames[1].format == PixelFormat::GREY);
+    REQUIRE(frames[1].planes[0].data[3 * frames[1].planes[0].stride + 7] == luma(7, 3, 0));
+    REQUIRE(frames[2].format == PixelFormat::Y16);
+    const uint8_t* p = frames[2].planes[0].data + 3 * frames[2].planes[0].stride + 2 * 7;
+    REQUIRE((p[0] | (p[1] << 8)) == luma(7, 3, 1) * 251);
+    REQUIRE(frames[2].sequence == 2);
+
+    SECTION("a glob selects and orders files") {
+        auto g = openPath(dir + "/*.png");
+        REQUIRE(g.ok());
+        const auto gf = readAll(**g);
+        REQUIRE(gf.size() == 2);
+        REQUIRE(gf[0].format == PixelFormat::GREY);
+        REQUIRE(gf[1].format == PixelFormat::Y16);
+        auto none = openPath(dir + "/*.tiff");
+        REQUIRE(!none.ok());
+        REQUIRE(none.error().kind == ErrorKind::NotFound);
+    }
+    SECTION("a single image with loop=1 repeats with increasing timestamps") {
+        auto one = openPath(dir + "/b_grey.png,loop=1,fps=100");
+        REQUIRE(one.ok());
+        REQUIRE((*one)->start().ok());
+        auto f0 = (*one)->next(), f1 = (*one)->next(), f2 = (*one)->next();
+        REQUIRE(f1->timestampNs - f0->timestampNs == 10'000'000);
+        REQUIRE(f2->timestampNs - f1->timestampNs == 10'000'000);
+    }
+    SECTION("an unreadable image in a sequence is reported, the others play") {
+        std::ofstream(dir + "/bb_broken.png") << "garbage, not a PNG";
+        int errors = 0;
+        auto s = openPath(dir);
+        REQUIRE(s.ok());
+        const auto all = readAll(**s, &errors);
+        REQUIRE(all.size() == 3);
+        REQUIRE(errors == 1);
+        REQUIRE((*s)->stats().errors == 1);
+        auto alone = openPath(dir + "/bb_broken.png");
+        REQUIRE(!alone.ok());
+        REQUIRE(alone.error().kind == ErrorKind::Corrupt);
+        REQUIRE_THAT(alone.error().message, Catch::Contains("bb_broken.png"));
+    }
+}
+
+TEST_CASE("the real focus stack plays as MJPEG frames in name order") {
+    const std::string dir = "/work/shared/data/focus-stack/depthmap";
+    if (::access(dir.c_str(), R_OK) != 0) return;  // data not present on this machine
+    auto src = openPath(dir);
+    REQUIRE(src.ok());
+    REQUIRE((*src)->info().frameCount == 10);
+    REQUIRE((*src)->info().format == PixelFormat::MJPEG);
+    REQUIRE((*src)->info().size == Size{2048, 1536});
+}
+
+TEST_CASE("video files play through OpenCV as GREY frames") {
+    const std::string path = tempDir() + "/clip.avi";
+    {
+        cv::VideoWriter vw(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 20.0, {64, 48});
+        REQUIRE(vw.isOpened());
+        for (int f = 0; f < 6; ++f) {
+            // Uniform grey levels survive the JPEG compression within a few levels.
+            cv::Mat m(48, 64, CV_8UC3, cv::Scalar::all(40 + 30 * f));
+            vw.write(m);
+        }
+    }
+    auto src = openPath(path);
+    REQUIRE(src.ok());
+    REQUIRE((*src)->info().fps == Approx(20.0).epsilon(1e-6));
+    const auto frames = readAll(**src);
+    REQUIRE(frames.size() == 6);
+    for (int f = 0; f < 6; ++f) {
+        REQUIRE(frames[f].format == PixelFormat::GREY);
+        REQUIRE(frames[f].timestampNs == f * 50'000'000LL);
+        // JPEG round trip of a flat colour: within 3 grey levels.
+        REQUIRE(std::abs(frames[f].planes[0].data[10 * 64 + 10] - (40 + 30 * f)) <= 3);
+    }
+    auto seek = openPath(path + ",start=4");
+    REQUIRE(seek.ok());
+    const auto tail = readAll(**seek);
+    REQUIRE(tail.size() == 2);
+    REQUIRE(std::abs(tail[0].planes[0].data[0] - (40 + 30 * 4)) <= 3);
+
+    std::ofstream(path + ".bin") << "neither a video nor an image";
+    auto bad = openPath(path + ".bin");
+    REQUIRE(!bad.ok());
+    REQUIRE_THAT(bad.error().message, Catch::Contains("clip.avi.bin"));
+}
