@@ -8,6 +8,7 @@ namespace infocus::cli {
 std::vector<Command> registerCommands(CLI::App& app) {
     // Order here is the order of `infocus --help`.
     return {
+        addAnalyzeCommand(app),
         addDofCommand(app),
         addDepthCommand(app),
         addRecordCommand(app),
