@@ -322,8 +322,9 @@ Command addDepthCommand(CLI::App& app) {
     sub->add_flag("--json", args->json, "One JSON object per frame (JSONL)");
     sub->footer(
         "Examples:\n"
-        "  infocus analyze sim:scene=tilted -o tilt.jsonl\n"
-        "  infocus depth tilt.jsonl --lens rpi-cam3 --focus 0.5m\n"
+        "  infocus analyze sim:scene=tilted,focus=0.5m -o tilt.jsonl\n"
+        "  infocus depth tilt.jsonl --lens rpi-cam3 --pixel-pitch 5.04um --focus 0.5m\n"
+        "    (sim: renders the 4608-pixel-wide sensor at 1280 wide: 1.4um x 3.6 per pixel)\n"
         "  infocus depth sim:scene=tilted --focal 25mm --fnumber 1.4 --pixel-pitch 3.45um "
         "--focus 2dpt --json");
     return {sub, [args] { return runDepth(*args); }};

@@ -186,20 +186,22 @@ Command addDofCommand(CLI::App& app) {
         "Or give --near and --far: get the focus distance and f-number that cover them.\n"
         "Lengths need units: 50mm, 10m, 0.03mm, 1.4um.");
     args->lens.add(sub, LensOptionSet{.coc = true, .pitch = true});
-    sub->add_option("--from", args->from,
-                    "Measure distances from the lens (thin-lens model) or the sensor plane (the "
-                    "focus scale of a lens)")
-        ->check(CLI::IsMember({"lens", "sensor"}))
-        ->capture_default_str();
-    sub->add_option("--near", args->nearText,
-                    "Wanted near limit (with --far, instead of "
-                    "--fnumber and --focus)")
+    CLI::Option_group* plan =
+        sub->add_option_group("Wanted range", "Instead of --fnumber and --focus: what to set");
+    plan->add_option("--near", args->nearText, "Nearest distance that must be sharp, e.g. 2m")
         ->type_name("DIST");
-    sub->add_option("--far", args->farText, "Wanted far limit, or inf")->type_name("DIST");
-    sub->add_option("--wavelength", args->wavelength, "Light wavelength for the Airy disc")
+    plan->add_option("--far", args->farText, "Farthest distance that must be sharp, or inf")
+        ->type_name("DIST");
+    CLI::Option_group* out = sub->add_option_group("Output");
+    out->add_option("--from", args->from,
+                    "Measure distances from the lens, or from the sensor plane like a lens's "
+                    "focus scale")
+        ->capture_default_str()
+        ->type_name("lens|sensor");
+    out->add_option("--wavelength", args->wavelength, "Light wavelength for the Airy disc")
         ->capture_default_str()
         ->type_name("LENGTH");
-    sub->add_flag("--json", args->json, "One JSON object (metres; null for infinity)");
+    out->add_flag("--json", args->json, "One JSON object (metres; null for infinity)");
     sub->footer(
         "Examples:\n"
         "  infocus dof --focal 50mm --fnumber 8 --focus 10m --coc 0.03mm\n"

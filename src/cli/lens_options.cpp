@@ -156,28 +156,26 @@ const LensPreset* findLensPreset(std::string_view name) {
 }
 
 void LensOptions::add(CLI::App* app, LensOptionSet set) {
-    app->add_option(
-           "--lens", lens_,
-           "Preset camera/lens supplying focal length, f-number, pixel pitch and sensor: " +
-               listLenses() + " (explicit options override it)")
-        ->type_name("PRESET");
-    app->add_option("--focal", focal_, "Focal length with a unit, e.g. 50mm")->type_name("LENGTH");
-    app->add_option("--fnumber,-N", fNumber_, "Aperture as an f-number, e.g. 8 or f/8")
+    CLI::Option_group* lens = app->add_option_group("Lens");
+    lens->add_option("--focal", focal_, "Focal length, e.g. 50mm")->type_name("LENGTH");
+    lens->add_option("--fnumber,-N", fNumber_, "Aperture as an f-number, e.g. 8 or f/8")
         ->type_name("N");
-    app->add_option("--focus", focus_,
-                    "Focus distance with a unit (2.5m), in dioptres (0.4dpt), or inf")
+    lens->add_option("--focus", focus_, "Focus distance: 2.5m, 0.4dpt (dioptres) or inf")
         ->type_name("DIST");
     if (set.pitch)
-        app->add_option("--pixel-pitch", pitch_, "Pixel pitch with a unit, e.g. 1.4um")
-            ->type_name("LENGTH");
+        lens->add_option("--pixel-pitch", pitch_, "Pixel size, e.g. 1.4um")->type_name("LENGTH");
+    lens->add_option(
+            "--lens", lens_,
+            "Camera preset for focal length, f-number, pixel size and sensor: " + listLenses())
+        ->type_name("PRESET");
     if (set.coc) {
-        app->add_option("--coc", coc_, "Circle of confusion with a unit, e.g. 0.03mm")
+        CLI::Option_group* coc = app->add_option_group(
+            "Circle of confusion", "One of these; default: full frame, 0.029 mm (diagonal/1500)");
+        coc->add_option("--coc", coc_, "Largest blur that still looks sharp, e.g. 0.03mm")
             ->type_name("LENGTH");
-        app->add_option("--sensor", sensor_,
-                        "Circle of confusion from a sensor's diagonal/1500: " + listSensors())
+        coc->add_option("--sensor", sensor_, "The sensor's diagonal/1500: " + listSensors())
             ->type_name("NAME");
-        app->add_option("--coc-px", cocPx_,
-                        "Circle of confusion in pixels (needs --pixel-pitch or --lens), e.g. 2")
+        coc->add_option("--coc-px", cocPx_, "In pixels, with --pixel-pitch or --lens, e.g. 2")
             ->type_name("PIXELS");
     }
 }

@@ -63,7 +63,8 @@ struct LensValues {
 /// The lens options of one subcommand: add() registers them, resolve() parses and checks them.
 class LensOptions {
 public:
-    /// Adds the options in @p set to @p app.
+    /// Adds the options in @p set to @p app, under the headings "Lens" and "Circle of
+    /// confusion".
     void add(CLI::App* app, LensOptionSet set);
 
     /// Parses what was given, fills gaps from --lens, and checks f > 0, N > 0, pitch > 0, c > 0.
