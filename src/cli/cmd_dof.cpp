@@ -36,7 +36,7 @@ Json metres(double v) {
 
 std::string lensLine(const optics::ThinLens& lens) {
     char buf[96];
-    std::snprintf(buf, sizeof buf, "%g mm f/%g", lens.focalLength * 1e3, lens.fNumber);
+    std::snprintf(buf, sizeof buf, "%g mm f/%.3g", lens.focalLength * 1e3, lens.fNumber);
     return buf;
 }
 
