@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: MIT
+// `infocus depth` on a real tilted focus stack (shared/data/focus-stack/pcb: a circuit board seen
+// at an angle, focus stepping through it). No one knows the true depths, so the check is the
+// structural one of data/README.md: the in-focus line the plane fit finds moves monotonically
+// across the image from frame to frame. The line comes from blur widths in pixels alone, so the
+// lens values given to the command do not move it. Exits 77 (skipped) without the data.
+#include <nlohmann/json.hpp>
+
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+int main() {
+    const char* bin = std::getenv("INFOCUS");
+    if (!bin) {
+        std::cerr << "set INFOCUS to the infocus executable\n";
+        return 1;
+    }
+    const std::string dir = std::string(INFOCUS_DATA_DIR) + "/focus-stack/pcb";
+    struct stat st {};
+    if (::stat((dir + "/pcb_001.jpg").c_str(), &st) != 0) {
+        std::cerr << "no focus stack at " << dir << ": skipped\n";
+        return 77;
+    }
+    const std::string cmd = std::string(bin) + " depth '" + dir +
+                            "/pcb_*.jpg' --frames 0 --grid 16x12 --focal 50mm --fnumber 4 "
+                            "--focus 0.3m --pixel-pitch 3um --json";
+    FILE* p = ::popen(cmd.c_str(), "r");
+    if (!p) return 1;
+    std::string out;
+    char buf[4096];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0)
+        out.append(buf, n);
+    const int status = ::pclose(p);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        std::cerr << "FAIL: " << cmd << " exited with " << status << "\n";
+        return 1;
+    }
+    // Height of the in-focus line at the centre column, per frame.
+    std::vector<double> lineY;
+    std::istringstream lines(out);
+    std::string line;
+    int failures = 0;
+    while (std::getline(lines, line)) {
+        const auto j = nlohmann::json::parse(line);
+        const auto& plane = j["plane"];
+        if (!plane.is_object()) {
+            std::cerr << "FAIL: frame " << j["frame"] << " has no plane fit\n";
+            return 1;
+        }
+        const double p0 = plane["p0_px"], p1 = plane["p1"], p2 = plane["p2"];
+        lineY.push_back(-(p0 + p1 * 1024.0) / p2);
+        const int inliers = plane["inliers"], samples = plane["samples"];
+        // A real blur map, yet the V model should explain most regions.
+        if (inliers < 0.8 * samples) {
+            std::cerr << "FAIL: frame " << j["frame"] << ": only " << inliers << " of " << samples
+                      << " regions fit\n";
+            ++failures;
+        }
+        std::cout << "frame " << j["frame"] << ": in-focus line at y = " << lineY.back()
+                  << " px at the centre column, " << inliers << "/" << samples << " inliers\n";
+    }
+    if (lineY.size() != 7) {
+        std::cerr << "FAIL: expected 7 frames, got " << lineY.size() << "\n";
+        return 1;
+    }
+    for (size_t i = 1; i < lineY.size(); ++i)
+        if (!(lineY[i] < lineY[i - 1])) {
+            std::cerr << "FAIL: the in-focus line does not move monotonically at frame " << i
+                      << "\n";
+            ++failures;
+        }
+    // The band is inside the 1536-pixel-high image for the first six frames.
+    for (size_t i = 0; i < 6; ++i)
+        if (lineY[i] < 0.0 || lineY[i] > 1536.0) {
+            std::cerr << "FAIL: frame " << i << " puts the in-focus line outside the image\n";
+            ++failures;
+        }
+    std::cout << (failures ? "FAILED" : "ok") << "\n";
+    return failures ? 1 : 0;
+}
