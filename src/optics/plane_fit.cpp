@@ -8,8 +8,11 @@
 // biweight, re-deciding each sample's side from the current plane.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "infocus/plane_fit.h"
 
