@@ -2,10 +2,10 @@
 // Robust fit of the lecture's blur "V": measured blur = |p0 + p1 x + p2 y|.
 //
 // The absolute value makes the problem non-linear, but once each sample's side of the in-focus
-// line is known it is ordinary weighted least squares on s_i·b_i. So: (1) least median of
-// squares (Rousseeuw 1984) over random triples, solving each triple for the 4 sign patterns that
-// differ by more than the global sign; (2) iteratively reweighted least squares with Tukey's
-// biweight, re-deciding each sample's side from the current plane.
+// line is known it is ordinary weighted least squares on s_i·b_i. So: (1) least (confidence-
+// weighted) median of squares (Rousseeuw 1984) over random triples, solving each triple for the 4
+// sign patterns that differ by more than the global sign; (2) iteratively reweighted least squares
+// with Tukey's biweight, re-deciding each sample's side from the current plane.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -67,13 +67,20 @@ double median(std::vector<double>& v) {
     return v[mid];
 }
 
-// Median of |measured − |model||: the LMedS cost of a hypothesis.
+// Confidence-weighted median of |measured − |model||: the LMedS cost of a hypothesis. Weighting
+// keeps many doubtful regions from outvoting a few trustworthy ones.
 double medianAbsResidual(const std::array<double, 3>& q, const std::vector<Point>& pts,
-                         std::vector<double>& scratch) {
+                         std::vector<std::pair<double, double>>& scratch, double totalWeight) {
     scratch.clear();
     for (const auto& p : pts)
-        scratch.push_back(std::abs(p.b - std::abs(eval(q, p))));
-    return median(scratch);
+        scratch.emplace_back(std::abs(p.b - std::abs(eval(q, p))), p.w);
+    std::sort(scratch.begin(), scratch.end());
+    double acc = 0.0;
+    for (const auto& [r, w] : scratch) {
+        acc += w;
+        if (acc >= 0.5 * totalWeight) return r;
+    }
+    return scratch.back().first;
 }
 
 // Weighted least squares of s_i·b_i ≈ q·(1, x, y) with weights w_i.
@@ -158,6 +165,11 @@ std::optional<BlurPlane> fitBlurPlane(std::span<const BlurSample> samples, int w
     std::uniform_int_distribution<size_t> pick(0, n - 1);
     std::vector<double> scratch;
     scratch.reserve(n);
+    std::vector<std::pair<double, double>> weighted;
+    weighted.reserve(n);
+    double totalWeight = 0.0;
+    for (const auto& p : pts)
+        totalWeight += p.w;
     std::optional<std::array<double, 3>> best;
     double bestCost = std::numeric_limits<double>::infinity();
     for (int h = 0; h < std::max(1, options.hypotheses); ++h) {
@@ -172,7 +184,7 @@ std::optional<BlurPlane> fitBlurPlane(std::span<const BlurSample> samples, int w
                                             (signs & 2) ? -t[2]->b : t[2]->b};
             const auto q = solve3(m, rhs);
             if (!q) break;  // collinear triple: no sign pattern helps
-            const double cost = medianAbsResidual(*q, pts, scratch);
+            const double cost = medianAbsResidual(*q, pts, weighted, totalWeight);
             if (cost < bestCost) {
                 bestCost = cost;
                 best = q;
