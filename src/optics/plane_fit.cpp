@@ -2,10 +2,10 @@
 // Robust fit of the lecture's blur "V": measured blur = |p0 + p1 x + p2 y|.
 //
 // The absolute value makes the problem non-linear, but once each sample's side of the in-focus
-// line is known it is ordinary weighted least squares on s_i·b_i. So: (1) least (confidence-
-// weighted) median of squares (Rousseeuw 1984) over random triples, solving each triple for the 4
-// sign patterns that differ by more than the global sign; (2) iteratively reweighted least squares
-// with Tukey's biweight, re-deciding each sample's side from the current plane.
+// line is known it is ordinary weighted least squares on s_i·b_i. So: (1) least median of
+// squares (Rousseeuw 1984) over random triples, solving each triple for the 4 sign patterns that
+// differ by more than the global sign; (2) iteratively reweighted least squares with Tukey's
+// biweight, re-deciding each sample's side from the current plane.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -67,20 +67,13 @@ double median(std::vector<double>& v) {
     return v[mid];
 }
 
-// Confidence-weighted median of |measured − |model||: the LMedS cost of a hypothesis. Weighting
-// keeps many doubtful regions from outvoting a few trustworthy ones.
+// Median of |measured − |model||: the LMedS cost of a hypothesis.
 double medianAbsResidual(const std::array<double, 3>& q, const std::vector<Point>& pts,
-                         std::vector<std::pair<double, double>>& scratch, double totalWeight) {
+                         std::vector<double>& scratch) {
     scratch.clear();
     for (const auto& p : pts)
-        scratch.emplace_back(std::abs(p.b - std::abs(eval(q, p))), p.w);
-    std::sort(scratch.begin(), scratch.end());
-    double acc = 0.0;
-    for (const auto& [r, w] : scratch) {
-        acc += w;
-        if (acc >= 0.5 * totalWeight) return r;
-    }
-    return scratch.back().first;
+        scratch.push_back(std::abs(p.b - std::abs(eval(q, p))));
+    return median(scratch);
 }
 
 // Weighted least squares of s_i·b_i ≈ q·(1, x, y) with weights w_i.
@@ -161,15 +154,12 @@ std::optional<BlurPlane> fitBlurPlane(std::span<const BlurSample> samples, int w
     if (n < 3) return std::nullopt;
 
     // (1) LMedS search over triples and sign patterns (the first sign is fixed: −q fits equally).
+    // The median is unweighted on purpose: weighting it by confidence let confident wide-blur
+    // regions outvote the in-focus band on the real tilted pcb stack; IRLS uses the weights.
     std::mt19937 rng(options.seed);
     std::uniform_int_distribution<size_t> pick(0, n - 1);
     std::vector<double> scratch;
     scratch.reserve(n);
-    std::vector<std::pair<double, double>> weighted;
-    weighted.reserve(n);
-    double totalWeight = 0.0;
-    for (const auto& p : pts)
-        totalWeight += p.w;
     std::optional<std::array<double, 3>> best;
     double bestCost = std::numeric_limits<double>::infinity();
     for (int h = 0; h < std::max(1, options.hypotheses); ++h) {
@@ -184,7 +174,7 @@ std::optional<BlurPlane> fitBlurPlane(std::span<const BlurSample> samples, int w
                                             (signs & 2) ? -t[2]->b : t[2]->b};
             const auto q = solve3(m, rhs);
             if (!q) break;  // collinear triple: no sign pattern helps
-            const double cost = medianAbsResidual(*q, pts, weighted, totalWeight);
+            const double cost = medianAbsResidual(*q, pts, scratch);
             if (cost < bestCost) {
                 bestCost = cost;
                 best = q;
