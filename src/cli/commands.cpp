@@ -8,8 +8,8 @@ namespace infocus::cli {
 std::vector<Command> registerCommands(CLI::App& app) {
     // Order here is the order of `infocus --help`.
     return {
-        addAnalyzeCommand(app), addDofCommand(app),   addDepthCommand(app),
-        addRecordCommand(app),  addBenchCommand(app),
+        addDevicesCommand(app), addAnalyzeCommand(app), addDofCommand(app),
+        addDepthCommand(app),   addRecordCommand(app),  addBenchCommand(app),
     };
 }
 

@@ -37,6 +37,7 @@ int usageError(const std::string& command, const std::string& message);
 // One entry point per command file (src/cli/cmd_NAME.cpp).
 Command addAnalyzeCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);
+Command addDevicesCommand(CLI::App& app);
 Command addDofCommand(CLI::App& app);
 Command addDepthCommand(CLI::App& app);
 Command addRecordCommand(CLI::App& app);

@@ -1,7 +1,14 @@
 // SPDX-License-Identifier: MIT
 // The one place that knows which backends were built: every HAVE_* test for a backend is here.
+#include "infocus/devices.h"
 #include "infocus/source.h"
 #include "infocus_config.h"
+#if HAVE_V4L2
+#include "drivers/v4l2/v4l2_source.h"
+#endif
+#if HAVE_LIBCAMERA
+#include "drivers/libcamera/libcamera_source.h"
+#endif
 #include "replay/replay_sources.h"
 
 namespace infocus {
@@ -15,8 +22,7 @@ Result<std::unique_ptr<FrameSource>> openSource(std::string_view text) {
 Result<std::unique_ptr<FrameSource>> openSource(const SourceSpec& spec) {
     if (spec.kind == "v4l2") {
 #if HAVE_V4L2
-        return makeError(ErrorKind::Unsupported,
-                         "source '" + spec.text + "': V4L2 capture is not available yet");
+        return v4l2::openV4l2Source(spec);
 #else
         return makeError(ErrorKind::Unsupported,
                          "source '" + spec.text +
@@ -25,8 +31,7 @@ Result<std::unique_ptr<FrameSource>> openSource(const SourceSpec& spec) {
     }
     if (spec.kind == "libcamera") {
 #if HAVE_LIBCAMERA
-        return makeError(ErrorKind::Unsupported,
-                         "source '" + spec.text + "': libcamera capture is not available yet");
+        return libcam::openLibcameraSource(spec);
 #else
         return makeError(ErrorKind::Unsupported, "source '" + spec.text +
                                                      "': this infocus was built without libcamera; "
@@ -37,6 +42,21 @@ Result<std::unique_ptr<FrameSource>> openSource(const SourceSpec& spec) {
     if (spec.kind == "sim") return replay::openSimSource(spec);
     return makeError(ErrorKind::Usage,
                      "source '" + spec.text + "': unknown source kind '" + spec.kind + "'");
+}
+
+Result<std::vector<DeviceInfo>> listDevices() {
+    std::vector<DeviceInfo> all;
+#if HAVE_V4L2
+    for (auto& d : v4l2::listV4l2Devices())
+        all.push_back(std::move(d));
+#endif
+#if HAVE_LIBCAMERA
+    auto cams = libcam::listLibcameraDevices();
+    if (!cams) return cams.error();
+    for (auto& d : *cams)
+        all.push_back(std::move(d));
+#endif
+    return all;
 }
 
 }  // namespace infocus
