@@ -301,11 +301,6 @@ Command addDepthCommand(CLI::App& app) {
     auto args = std::make_shared<DepthArgs>();
     CLI::App* sub = app.add_subcommand(
         "depth", "Per-region depth from blur width, the in-focus line and the tilt of the scene");
-    sub->description(
-        "Depth from blur on the thin-lens model. Each region's blur width b gives two depths,\n"
-        "1/z = 1/u +- b/(A z_s), in front of and behind the in-focus distance u; a robust fit of\n"
-        "|p0 + p1 x + p2 y| to the blur map gives the in-focus line and the scene plane's tilt.\n"
-        "INPUT is 'infocus analyze' output (a .jsonl file, or - for stdin) or a source string.");
     sub->add_option("INPUT", args->input, "analyze JSONL file, - (stdin), or a SOURCE")->required();
     args->lens.add(sub, LensOptionSet{.coc = false, .pitch = true});
     sub->add_option("--blur-floor", args->blurFloorPx,
@@ -322,6 +317,10 @@ Command addDepthCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_flag("--json", args->json, "One JSON object per frame (JSONL)");
     sub->footer(
+        "Each region's blur width b gives two depths, 1/z = 1/u +- b/(A z_s), in front of and\n"
+        "behind the in-focus distance u. A robust fit of |p0 + p1 x + p2 y| to the blur map gives\n"
+        "the in-focus line and the tilt of the scene; one focus setting cannot say which side of\n"
+        "that line is nearer, so both readings are shown.\n\n"
         "Examples:\n"
         "  infocus analyze sim:scene=tilted,focus=0.5m -o tilt.jsonl\n"
         "  infocus depth tilt.jsonl --lens rpi-cam3 --pixel-pitch 5.04um --focus 0.5m\n"

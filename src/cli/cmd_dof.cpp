@@ -179,12 +179,6 @@ Command addDofCommand(CLI::App& app) {
     auto args = std::make_shared<DofArgs>();
     CLI::App* sub = app.add_subcommand(
         "dof", "Depth-of-field calculator: near and far limits of sharpness, hyperfocal distance");
-    sub->description(
-        "Depth-of-field calculator (thin-lens model).\n"
-        "Give the lens, the aperture and where it is focused; get the nearest and farthest\n"
-        "distances that look sharp, the hyperfocal distance and the diffraction budget.\n"
-        "Or give --near and --far: get the focus distance and f-number that cover them.\n"
-        "Lengths need units: 50mm, 10m, 0.03mm, 1.4um.");
     args->lens.add(sub, LensOptionSet{.coc = true, .pitch = true});
     CLI::Option_group* plan =
         sub->add_option_group("Wanted range", "Instead of --fnumber and --focus: what to set");
@@ -203,6 +197,10 @@ Command addDofCommand(CLI::App& app) {
         ->type_name("LENGTH");
     out->add_flag("--json", args->json, "One JSON object (metres; null for infinity)");
     sub->footer(
+        "Give the lens, the aperture and where it is focused; get the nearest and farthest\n"
+        "distances that look sharp, the hyperfocal distance and the diffraction budget.\n"
+        "Or give --near and --far: get the focus distance and f-number that cover them.\n"
+        "Lengths need units: 50mm, 10m, 0.03mm, 1.4um.\n\n"
         "Examples:\n"
         "  infocus dof --focal 50mm --fnumber 8 --focus 10m --coc 0.03mm\n"
         "  infocus dof --focal 24mm --fnumber 11 --focus 3m --sensor aps-c --from sensor\n"
