@@ -295,7 +295,9 @@ Result<Frame> loadImage(const std::string& path) {
         if (rc != 0)
             return makeError(ErrorKind::Corrupt,
                              "image " + path + " is not a readable JPEG (" + why + ")");
-        return makeCompressedFrame(PixelFormat::MJPEG, {w, h}, bytes->data(), bytes->size());
+        Frame f = makeCompressedFrame(PixelFormat::MJPEG, {w, h}, bytes->data(), bytes->size());
+        f.origin = path;
+        return f;
     }
     cv::Mat m;
     try {
@@ -324,6 +326,7 @@ Result<Frame> loadImage(const std::string& path) {
     const size_t rowBytes = m.cols * m.elemSize();
     for (int y = 0; y < m.rows; ++y)
         std::memcpy(mutablePlane(*frame, 0) + y * frame->planes[0].stride, m.ptr(y), rowBytes);
+    frame->origin = path;
     return frame;
 }
 

@@ -75,10 +75,14 @@ private:
 /// Receives each analysed frame; a failed Status stops the analysis and is returned.
 using AnalysisSink = std::function<Status(const FrameAnalysis&)>;
 
+/// Receives each frame the source reported as damaged (ErrorKind::Corrupt) and skipped.
+using DamageSink = std::function<void(const Error&)>;
+
 /// Opens @p source (a source string, see source.h) and analyses up to @p maxFrames frames
-/// (0: until the source ends), handing each result to @p sink in order.
+/// (0: until the source ends), handing each result to @p sink in order. A damaged frame is
+/// skipped and reported to @p onDamaged (when given); the frames after it are still analysed.
 Status analyzeSource(std::string_view source, const AnalysisOptions& options, uint64_t maxFrames,
-                     const AnalysisSink& sink);
+                     const AnalysisSink& sink, const DamageSink& onDamaged = {});
 
 /// Serialises @p a as one JSONL line (no trailing newline) with the fields of DESIGN.md.
 std::string toJsonLine(const FrameAnalysis& a);

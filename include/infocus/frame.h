@@ -86,6 +86,7 @@ struct Frame {
     std::optional<LensPosition> lens;     ///< lens position when the source knows it
     std::optional<double> exposureS;      ///< exposure time in seconds, when known
     std::shared_ptr<const void> storage;  ///< owner of the pixel memory
+    std::string origin;  ///< where the frame came from (an image file's path), for messages
 };
 
 /// Byte layout of an uncompressed format: plane count, per-plane stride and size.

@@ -139,9 +139,10 @@ int runAnalyze(const AnalyzeArgs& args) {
                                                                  "is writable"));
     }
     std::ostream& out = file.is_open() ? static_cast<std::ostream&>(file) : std::cout;
-    uint64_t written = 0;
-    const Status st =
-        analyzeSource(args.source, options, args.frames, [&](const FrameAnalysis& a) -> Status {
+    uint64_t written = 0, damaged = 0;
+    const Status st = analyzeSource(
+        args.source, options, args.frames,
+        [&](const FrameAnalysis& a) -> Status {
             if (args.format == "csv")
                 writeCsv(out, a, written == 0);
             else if (args.format == "table")
@@ -152,11 +153,20 @@ int runAnalyze(const AnalyzeArgs& args) {
             ++written;
             if (!out) return makeError(ErrorKind::Io, "writing the results failed");
             return {};
+        },
+        [&](const Error& e) {
+            ++damaged;
+            std::cerr << "infocus analyze: skipped a damaged frame: " << e.message << "\n";
         });
     if (!st) {
         if (written)
             std::cerr << "infocus analyze: " << written << " frame(s) written before the error\n";
         return reportError(cmd, st.error());
+    }
+    if (damaged) {
+        std::cerr << "infocus analyze: " << damaged << " damaged frame(s) skipped, " << written
+                  << " analysed\n";
+        return kExitFailure;
     }
     if (written == 0)
         return reportError(

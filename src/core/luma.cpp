@@ -12,6 +12,9 @@ namespace infocus {
 namespace {
 
 std::string describe(const Frame& f) {
+    if (!f.origin.empty())
+        return f.origin + " (" + pixelFormatName(f.format) + " " + std::to_string(f.size.width) +
+               "x" + std::to_string(f.size.height) + ")";
     return pixelFormatName(f.format) + " " + std::to_string(f.size.width) + "x" +
            std::to_string(f.size.height) + " frame #" + std::to_string(f.sequence);
 }

@@ -7,7 +7,7 @@
 namespace infocus {
 
 Status analyzeSource(std::string_view source, const AnalysisOptions& options, uint64_t maxFrames,
-                     const AnalysisSink& sink) {
+                     const AnalysisSink& sink, const DamageSink& onDamaged) {
     auto analyzer = Analyzer::create(options);
     if (!analyzer) return analyzer.error();
     auto src = openSource(source);
@@ -17,11 +17,22 @@ Status analyzeSource(std::string_view source, const AnalysisOptions& options, ui
     Status result;
     for (uint64_t i = 0; maxFrames == 0 || i < maxFrames; ++i) {
         auto frame = s.next();
+        if (!frame && frame.error().kind == ErrorKind::Corrupt) {
+            // One damaged frame (torn record, bad JPEG) must not cost the intact ones after it.
+            if (onDamaged) onDamaged(frame.error());
+            --i;
+            continue;
+        }
         if (!frame) {
             if (frame.error().kind != ErrorKind::EndOfStream) result = frame.error();
             break;
         }
         auto a = (*analyzer)->analyze(*frame, i);
+        if (!a && a.error().kind == ErrorKind::Corrupt) {
+            if (onDamaged) onDamaged(a.error());
+            --i;
+            continue;
+        }
         if (!a) {
             result = a.error();
             break;

@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# `infocus analyze` end to end: the JSONL contract, CSV and table output, a damaged image in a
+# sequence (skipped, reported, the rest analysed, non-zero exit), and usage errors (exit 2).
+# Usage: test_analyze.sh PATH_TO_INFOCUS SHARED_DATA_DIR
+set -u
+bin=${1:?path to infocus}
+data=${2:?shared data dir}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { echo "FAIL: $*"; fail=$((fail + 1)); }
+
+# Three frames in name order: two real photographs around a truncated copy of one.
+src="$data/focus-stack/depthmap"
+cp "$src/pcb_000.JPG" "$tmp/a.jpg"
+head -c 200000 "$src/pcb_004.JPG" >"$tmp/b.jpg"
+cp "$src/pcb_009.JPG" "$tmp/c.jpg"
+mkdir "$tmp/good" && cp "$src/pcb_003.JPG" "$src/pcb_006.JPG" "$tmp/good/"
+
+out=$("$bin" analyze "$tmp/good" --grid 4x3 2>"$tmp/err")
+st=$?
+[[ $st -eq 0 ]] && ok || bad "analyze good dir exited $st: $(cat "$tmp/err")"
+# Every contract field, on every frame and region (DESIGN.md "analyze JSONL").
+if python3 - "$out" <<'PY'; then ok; else bad "JSONL contract"; fi
+import json, sys
+lines = sys.argv[1].strip().split("\n")
+assert len(lines) == 2, len(lines)
+for i, line in enumerate(lines):
+    o = json.loads(line)
+    for k in ("frame", "timestamp_ns", "lens_position", "width", "height", "regions"):
+        assert k in o, k
+    assert o["frame"] == i and o["width"] == 2048 and o["height"] == 1536
+    assert len(o["regions"]) == 12
+    for r in o["regions"]:
+        for k in ("col", "row", "x", "y", "w", "h", "sharpness", "edge_width_px",
+                  "blur_sigma_px", "blur_width_px", "confidence"):
+            assert k in r, k
+        assert 0 <= r["confidence"] <= 1
+        assert (r["blur_width_px"] is None) == (r["confidence"] == 0)
+    assert sum(r["w"] * r["h"] for r in o["regions"]) == 2048 * 1536
+PY
+
+csv=$("$bin" analyze "$tmp/good" --grid 2x2 --format csv --no-blur)
+[[ $(head -1 <<<"$csv") == frame,timestamp_ns,lens_value,lens_unit,width,height,col,row,x,y,w,h,sharpness,* ]] && ok || bad "csv header"
+[[ $(wc -l <<<"$csv") -eq 9 ]] && ok || bad "csv rows: $(wc -l <<<"$csv")"
+
+"$bin" analyze "$tmp/good" --grid 3x2 --format table --no-blur --frames 1 | grep -q "sharpness (teng" && ok || bad "table"
+
+# A damaged frame: skipped and named, the intact ones still written, exit 1.
+"$bin" analyze "$tmp" --grid 2x2 --no-blur -o "$tmp/out.jsonl" 2>"$tmp/err"
+st=$?
+[[ $st -eq 1 ]] && ok || bad "damaged sequence exited $st"
+[[ $(wc -l <"$tmp/out.jsonl") -eq 2 ]] && ok || bad "intact frames written: $(wc -l <"$tmp/out.jsonl")"
+grep -q "b.jpg" "$tmp/err" && grep -q "damaged" "$tmp/err" && ok || bad "damage report: $(cat "$tmp/err")"
+
+# Usage errors exit 2 and say what to type; a missing file exits 1 and names it.
+expect_usage() {
+	local pat=$1
+	shift
+	local e
+	e=$("$bin" analyze "$@" 2>&1 >/dev/null)
+	local s=$?
+	[[ $s -eq 2 ]] && grep -qE -- "$pat" <<<"$e" && ok || bad "analyze $* -> $s: $e"
+}
+expect_usage "e.g. --grid 16x9" "$tmp/good" --grid 16by9
+expect_usage "lapv" "$tmp/good" --metric sharpest
+expect_usage "jsonl, csv or table" "$tmp/good" --format xml
+expect_usage "x,y,w,h" "$tmp/good" --roi 1,2,3
+e=$("$bin" analyze "$tmp/nothing-here.jpg" 2>&1)
+s=$?
+[[ $s -eq 1 ]] && grep -q "nothing-here.jpg" <<<"$e" && ok || bad "missing file -> $s: $e"
+
+echo "analyze: $pass passed, $fail failed"
+[[ $fail -eq 0 ]]
