@@ -10,4 +10,6 @@ ninja -C build >/dev/null || ninja -C build || exit 1
 if [[ $# -gt 0 ]]; then
 	exec build/src/cli/infocus "$@"
 fi
-exec build/src/cli/infocus bench
+# The main job until the live assistant exists: per-region sharpness and blur width of the
+# built-in simulated camera (three planes at known depths), as a table.
+exec build/src/cli/infocus analyze "sim:scene=steps" --frames 1 --grid 8x4 --format table
