@@ -36,10 +36,11 @@ struct Patch {
     double t(double x, double y) const { return -(x - cx) * ny + (y - cy) * nx; }
 };
 
-// Calls fn(x, y, u, t) for every pixel of @p b whose centre lies inside @p p. The x range of each
-// row is solved from both slab constraints, so a 45° patch costs its area, not its bounding box.
+// Calls fn(y, x0, x1, u0, t0) for every row of @p b holding pixel centres inside @p p: pixels
+// x0..x1 of row y, (u0, t0) the patch coordinates of pixel x0; along the row u grows by nx and t
+// by −ny per pixel, so callers step them instead of projecting every pixel.
 template <typename Fn>
-void forEachPixel(const Patch& p, const Bounds& b, Fn&& fn) {
+void forEachRow(const Patch& p, const Bounds& b, Fn&& fn) {
     const double r = std::abs(p.hw * p.nx) + std::abs(p.hl * p.ny);
     const double rv = std::abs(p.hw * p.ny) + std::abs(p.hl * p.nx);
     const int y0 = std::max(b.y0, static_cast<int>(std::floor(p.cy - rv - 0.5)));
@@ -47,7 +48,8 @@ void forEachPixel(const Patch& p, const Bounds& b, Fn&& fn) {
     for (int y = y0; y <= y1; ++y) {
         const double dy = y + 0.5 - p.cy;
         double lo = p.cx - r - 1.0, hi = p.cx + r + 1.0;
-        // |dx·nx + dy·ny| ≤ hw  and  |−dx·ny + dy·nx| ≤ hl, solved for dx.
+        // |dx·nx + dy·ny| ≤ hw  and  |−dx·ny + dy·nx| ≤ hl, solved for dx: a 45° patch costs
+        // its area, not its bounding box.
         auto clampSlab = [&](double a, double c, double h) {
             if (std::abs(a) < 1e-12) {
                 if (std::abs(c) > h) hi = lo - 1.0;
@@ -62,10 +64,7 @@ void forEachPixel(const Patch& p, const Bounds& b, Fn&& fn) {
         clampSlab(-p.ny, dy * p.nx, p.hl);
         const int x0 = std::max(b.x0, static_cast<int>(std::ceil(lo - 0.5)));
         const int x1 = std::min(b.x1 - 1, static_cast<int>(std::floor(hi - 0.5)));
-        for (int x = x0; x <= x1; ++x) {
-            const double px = x + 0.5;
-            fn(x, y, p.u(px, y + 0.5), p.t(px, y + 0.5));
-        }
+        if (x0 <= x1) fn(y, x0, x1, p.u(x0 + 0.5, y + 0.5), p.t(x0 + 0.5, y + 0.5));
     }
 }
 
@@ -73,25 +72,37 @@ void forEachPixel(const Patch& p, const Bounds& b, Fn&& fn) {
 // strongest first, at most @p cap of them.
 std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const BlurOptions& o,
                                       size_t cap) {
-    std::vector<Candidate> all;
     const int step = std::max(1, o.candidateStep);
-    float peak = 0.0f;
-    for (int y = std::max(roi.y0, 1); y < std::min(roi.y1, img.height - 1); y += step) {
+    const int y0 = std::max(roi.y0, 1), y1 = std::min(roi.y1, img.height - 1);
+    const int x0 = std::max(roi.x0, 1), x1 = std::min(roi.x1, img.width - 1);
+    auto sobel = [&](int x, int y, int& gx, int& gy) {
         const uint8_t* a = img.row(y - 1);
         const uint8_t* m = img.row(y);
         const uint8_t* c = img.row(y + 1);
-        for (int x = std::max(roi.x0, 1); x < std::min(roi.x1, img.width - 1); x += step) {
-            const int gx =
-                (a[x + 1] - a[x - 1]) + 2 * (m[x + 1] - m[x - 1]) + (c[x + 1] - c[x - 1]);
-            const int gy = (c[x - 1] - a[x - 1]) + 2 * (c[x] - a[x]) + (c[x + 1] - a[x + 1]);
+        gx = (a[x + 1] - a[x - 1]) + 2 * (m[x + 1] - m[x - 1]) + (c[x + 1] - c[x - 1]);
+        gy = (c[x - 1] - a[x - 1]) + 2 * (c[x] - a[x]) + (c[x + 1] - a[x + 1]);
+    };
+    // Two passes, the region's peak first, so that only candidates above the relative threshold
+    // are stored (in scan order, as the strongest-first sort below expects).
+    int peak2 = 0;
+    for (int y = y0; y < y1; y += step)
+        for (int x = x0; x < x1; x += step) {
+            int gx, gy;
+            sobel(x, y, gx, gy);
+            peak2 = std::max(peak2, gx * gx + gy * gy);
+        }
+    const float peak = static_cast<float>(peak2) * (1.0f / 64.0f);
+    const auto thr = std::max(static_cast<float>(o.relativeGradient * o.relativeGradient * peak),
+                              static_cast<float>(o.minGradient * o.minGradient));
+    std::vector<Candidate> all;
+    for (int y = y0; y < y1; y += step)
+        for (int x = x0; x < x1; x += step) {
+            int gx, gy;
+            sobel(x, y, gx, gy);
             const float mag2 = static_cast<float>(gx * gx + gy * gy) * (1.0f / 64.0f);
-            if (mag2 < o.minGradient * o.minGradient) continue;
-            peak = std::max(peak, mag2);
+            if (mag2 < thr) continue;
             all.push_back({x, y, gx / 8.0f, gy / 8.0f, mag2});
         }
-    }
-    const auto thr = static_cast<float>(o.relativeGradient * o.relativeGradient * peak);
-    std::erase_if(all, [thr](const Candidate& c) { return c.mag2 < thr; });
     const size_t n = std::min(cap, all.size());
     std::partial_sort(all.begin(), all.begin() + n, all.end(),
                       [](const Candidate& a, const Candidate& b) { return a.mag2 > b.mag2; });
@@ -105,17 +116,33 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
 double refineGeometry(const Luma8& img, const Bounds& b, Patch& p, double threshold) {
     constexpr double kSlicePx = 4.0;
     const int slices = std::max(3, static_cast<int>(std::ceil(2.0 * p.hl / kSlicePx)));
-    std::vector<double> sw(slices, 0.0), swu(slices, 0.0), swt(slices, 0.0);
-    forEachPixel(p, b, [&](int x, int y, double u, double t) {
+    // Scratch reused across calls: no allocation per edge.
+    thread_local std::vector<double> scratch;
+    scratch.assign(3 * static_cast<size_t>(slices), 0.0);
+    double* sw = scratch.data();
+    double* swu = sw + slices;
+    double* swt = swu + slices;
+    const ptrdiff_t stride = img.stride;
+    const float fnx = static_cast<float>(p.nx), fny = static_cast<float>(p.ny);
+    const float thr = static_cast<float>(threshold);
+    forEachRow(p, b, [&](int y, int x0, int x1, double u0, double t0) {
         const uint8_t* r = img.row(y);
-        const double d =
-            0.5 * ((r[x + 1] - r[x - 1]) * p.nx + (img.row(y + 1)[x] - img.row(y - 1)[x]) * p.ny);
-        const double w = d - threshold;
-        if (w <= 0.0) return;
-        const int s = std::clamp(static_cast<int>((t + p.hl) / kSlicePx), 0, slices - 1);
-        sw[s] += w;
-        swu[s] += w * u;
-        swt[s] += w * t;
+        for (int x = x0; x <= x1; ++x) {
+            // Most pixels lie below the threshold: test them on the cheap float derivative and
+            // project only the few that count.
+            const float d = 0.5f * (static_cast<float>(r[x + 1] - r[x - 1]) * fnx +
+                                    static_cast<float>(r[x + stride] - r[x - stride]) * fny);
+            if (d <= thr) continue;
+            const double w =
+                0.5 * ((r[x + 1] - r[x - 1]) * p.nx + (r[x + stride] - r[x - stride]) * p.ny) -
+                threshold;
+            if (w <= 0.0) continue;
+            const double u = u0 + p.nx * (x - x0), t = t0 - p.ny * (x - x0);
+            const int s = std::clamp(static_cast<int>((t + p.hl) / kSlicePx), 0, slices - 1);
+            sw[s] += w;
+            swu[s] += w * u;
+            swt[s] += w * t;
+        }
     });
     // Weighted least squares e = a + b·t over the slice centroids (t_k, e_k), weights Σw.
     double W = 0, St = 0, Se = 0, Stt = 0, Ste = 0;
@@ -264,49 +291,89 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
     return f;
 }
 
-// Bins the pixels of @p p by their distance across the edge (the slanted-edge ESF).
-std::vector<Bin> sampleEsf(const Luma8& img, const Bounds& b, const Patch& p, double binPx) {
+// Bins the pixels of @p p by their distance across the edge (the slanted-edge ESF) into @p bins.
+void sampleEsf(const Luma8& img, const Bounds& b, const Patch& p, double binPx,
+               std::vector<Bin>& bins) {
     const int n = static_cast<int>(std::ceil(2.0 * p.hw / binPx));
-    std::vector<double> s(n, 0), s2(n, 0), su(n, 0), suu(n, 0);
-    std::vector<int> cnt(n, 0);
+    struct Acc {
+        double s, s2, su, suu;
+        int cnt;
+    };
+    // Scratch reused across calls: no allocation per edge.
+    thread_local std::vector<Acc> acc;
+    acc.assign(n, Acc{0.0, 0.0, 0.0, 0.0, 0});
     const double inv = 1.0 / binPx;
-    forEachPixel(p, b, [&](int x, int y, double u, double) {
-        const int k = static_cast<int>((u + p.hw) * inv);
-        if (k < 0 || k >= n) return;
-        const double v = img.row(y)[x];
-        s[k] += v, s2[k] += v * v, su[k] += u, suu[k] += u * u, ++cnt[k];
+    forEachRow(p, b, [&](int y, int x0, int x1, double u0, double) {
+        const uint8_t* row = img.row(y);
+        for (int x = x0; x <= x1; ++x) {
+            const double u = u0 + p.nx * (x - x0);
+            const int k = static_cast<int>((u + p.hw) * inv);
+            if (k < 0 || k >= n) continue;
+            const double v = row[x];
+            Acc& a = acc[k];
+            a.s += v, a.s2 += v * v, a.su += u, a.suu += u * u, ++a.cnt;
+        }
     });
-    std::vector<Bin> bins;
-    bins.reserve(n);
+    bins.clear();
     for (int k = 0; k < n; ++k) {
-        if (cnt[k] == 0) continue;
-        const double m = su[k] / cnt[k], v = s[k] / cnt[k];
-        bins.push_back({m, v, std::max(0.0, suu[k] / cnt[k] - m * m),
-                        std::max(0.0, s2[k] / cnt[k] - v * v), cnt[k]});
+        const Acc& a = acc[k];
+        if (a.cnt == 0) continue;
+        const double m = a.su / a.cnt, v = a.s / a.cnt;
+        bins.push_back({m, v, std::max(0.0, a.suu / a.cnt - m * m),
+                        std::max(0.0, a.s2 / a.cnt - v * v), a.cnt});
     }
-    return bins;
 }
 
-// Measures one edge from a seed; empty when it is not a usable straight edge.
-std::optional<EdgeMeasurement> measureEdge(const Luma8& img, const Bounds& b, const Candidate& c,
-                                           const BlurOptions& o, double halfLength, Patch& patch) {
+// One edge measured from a seed at one segment length, in passes that widen the sampled patch
+// until the line spread fits. It can stop after the first (narrow, cheap) pass and resume later,
+// so that of several segment lengths only the promising one is widened.
+struct EdgeTrial {
+    Patch patch{};
+    double threshold = 0.0, straight = 0.0;
+    int pass = 0;
+    bool done = false;
+    std::optional<EdgeMeasurement> result;  // set when done and usable
+    // Quality from the first pass alone (no overshoot, σ of the truncated window): a guide to
+    // which segment length to widen, never reported.
+    double provisional = 0.0;
+};
+
+EdgeTrial startTrial(const Candidate& c, double halfLength) {
+    EdgeTrial tr;
     const double g = std::sqrt(c.mag2);
-    patch = Patch{c.x + 0.5, c.y + 0.5, c.gx / g, c.gy / g, 6.0, halfLength};
-    const double threshold = 0.2 * g;
-    double straight = 0.0;
-    for (int pass = 0; pass < 6; ++pass) {
+    tr.patch = Patch{c.x + 0.5, c.y + 0.5, c.gx / g, c.gy / g, 6.0, halfLength};
+    tr.threshold = 0.2 * g;
+    return tr;
+}
+
+// Runs the passes of @p tr up to (not including) @p untilPass; sets done and result at the end.
+void runTrial(const Luma8& img, const Bounds& b, const BlurOptions& o, EdgeTrial& tr,
+              int untilPass) {
+    Patch& patch = tr.patch;
+    double& straight = tr.straight;
+    const double threshold = tr.threshold;
+    auto finish = [&](std::optional<EdgeMeasurement> m) {
+        tr.done = true;
+        tr.result = m;
+    };
+    for (; tr.pass < std::min(untilPass, 6); ++tr.pass) {
+        const int pass = tr.pass;
         // Two refinements from the seed's rough normal, one after each widening.
         for (int it = 0; it < (pass == 0 ? 2 : 1); ++it) {
             straight = refineGeometry(img, b, patch, threshold);
-            if (straight < 0.0) return std::nullopt;
+            if (straight < 0.0) return finish(std::nullopt);
         }
-        const EsfFit f = fitEsf(sampleEsf(img, b, patch, o.binPx), patch.hw, o.minContrast);
+        thread_local std::vector<Bin> bins;
+        sampleEsf(img, b, patch, o.binPx, bins);
+        const EsfFit f = fitEsf(bins, patch.hw, o.minContrast);
         // A clipped edge (a plateau at black or white) has lost the part of its spread beyond the
         // clip: its moment says nothing about the blur.
-        if (f.ok && (f.lo <= kClipLow || f.lo + f.contrast >= kClipHigh)) return std::nullopt;
+        if (f.ok && (f.lo <= kClipLow || f.lo + f.contrast >= kClipHigh))
+            return finish(std::nullopt);
         // An LSF narrower than half the pixel's own spread is no imaged edge (JPEG block seams,
         // a window collapsed on clutter), and a fit without plateau pixels has nothing to trust.
-        if (f.ok && (f.varLsf < 0.5 * kPixelVariance || f.plateauPixels == 0)) return std::nullopt;
+        if (f.ok && (f.varLsf < 0.5 * kPixelVariance || f.plateauPixels == 0))
+            return finish(std::nullopt);
         if (f.ok) {
             EdgeMeasurement m;
             m.cx = patch.cx + f.mean * patch.nx;
@@ -332,13 +399,19 @@ std::optional<EdgeMeasurement> measureEdge(const Luma8& img, const Bounds& b, co
             const double bend = straight / (0.3 + 0.25 * sd);
             const double over = f.overshoot / 0.25;
             m.quality = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend - over * over);
-            return m;
+            return finish(m);
         }
-        if (!f.needWider || patch.hw >= o.maxHalfWidthPx) return std::nullopt;
+        if (!f.needWider || patch.hw >= o.maxHalfWidthPx) return finish(std::nullopt);
+        if (pass == 0) {
+            const double sd = std::sqrt(std::max(f.varLsf, kPixelVariance));
+            const double cnr = f.contrast / std::max(f.noise, 0.5);
+            const double bend = straight / (0.3 + 0.25 * sd);
+            tr.provisional = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend);
+        }
         const double sd = std::sqrt(std::max(f.varLsf, 0.1));
         patch.hw = std::min(o.maxHalfWidthPx, std::max(1.6 * patch.hw, 4.0 * sd + 4.0));
     }
-    return std::nullopt;
+    if (tr.pass >= 6) finish(std::nullopt);
 }
 
 Bounds clipRect(const Rect& r, int w, int h) {
@@ -378,18 +451,38 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
         if (covered) continue;
         ++attempts;
         // Long segments average more pixels; curved or crowded edges (texture) only stay straight
-        // and clean over a short one: halve the length until the edge measures well.
+        // and clean over a short one: halve the length until the edge measures well. Every
+        // length gets the cheap first pass; only a length that already looks good (measured in
+        // full at once), or else the best-looking one, is widened: widening is most of the cost.
         std::optional<EdgeMeasurement> best;
         Patch bestPatch{};
-        for (double len = halfLength; len >= 6.0; len *= 0.5) {
-            Patch patch{};
-            auto m = measureEdge(luma, sb, c, options, len, patch);
-            if (len == halfLength) bestPatch = patch;
-            if (m && (!best || m->quality > best->quality)) {
-                best = m;
-                bestPatch = patch;
+        EdgeTrial pending[4];
+        int nPending = 0;
+        auto consider = [&](const EdgeTrial& tr) {
+            if (tr.result && (!best || tr.result->quality > best->quality)) {
+                best = tr.result;
+                bestPatch = tr.patch;
             }
-            if (best && best->quality > 0.3) break;
+        };
+        for (double len = halfLength; len >= 6.0; len *= 0.5) {
+            EdgeTrial tr = startTrial(c, len);
+            runTrial(luma, sb, options, tr, 1);
+            if (!tr.done && tr.provisional > 0.3) runTrial(luma, sb, options, tr, 6);
+            if (len == halfLength) bestPatch = tr.patch;
+            if (tr.done) {
+                consider(tr);
+                if (best && best->quality > 0.3) break;
+            } else if (nPending < 4) {
+                pending[nPending++] = tr;
+            }
+        }
+        if (!(best && best->quality > 0.3) && nPending > 0) {
+            EdgeTrial* pick = std::max_element(pending, pending + nPending,
+                                               [](const EdgeTrial& a, const EdgeTrial& b) {
+                                                   return a.provisional < b.provisional;
+                                               });
+            runTrial(luma, sb, options, *pick, 6);
+            consider(*pick);
         }
         used.push_back(bestPatch);
         if (best) out.push_back(*best);

@@ -151,6 +151,8 @@ TEST_CASE("real focus stack: blur is smallest where sharpness peaks", "[blur][da
         }
     // Real boards have clutter, clipped highlights and JPEG seams: at least 4 textured regions
     // measured, and 2 in 3 of them bottom out where sharpness peaks.
+    WARN("pcb stack: blur minimum at the sharpness peak in " << agree << " of " << checked
+                                                             << " textured regions");
     CHECK(checked >= 4);
     CHECK(agree * 3 >= checked * 2);
 }
