@@ -39,16 +39,18 @@ struct FrameAnalysis {
     int height = 0;
     std::string metric;                ///< operator that produced RegionResult::sharpness
     std::optional<double> noiseSigma;  ///< estimated white-noise σ (grey levels) removed from it
+    double frameSharpness = 0.0;       ///< whole-frame score from the regions (combineScores)
     std::vector<RegionResult> regions;
 };
 
 /// What to measure on each frame.
 struct AnalysisOptions {
-    int cols = 16;            ///< grid columns (ignored when @ref rois is not empty)
-    int rows = 9;             ///< grid rows
-    std::vector<Rect> rois;   ///< explicit regions instead of the grid
-    std::string metric;       ///< sharpness operator name; empty: the default operator
-    bool measureBlur = true;  ///< also fill the blur fields (edge width, σ, disc diameter)
+    int cols = 16;                ///< grid columns (ignored when @ref rois is not empty)
+    int rows = 9;                 ///< grid rows
+    std::vector<Rect> rois;       ///< explicit regions instead of the grid
+    std::string metric;           ///< sharpness operator name; empty: the default operator
+    bool measureBlur = true;      ///< also fill the blur fields (edge width, σ, disc diameter)
+    bool centreWeighted = false;  ///< FrameAnalysis::frameSharpness weights the centre more
 };
 
 /// Analyses frames one after another, reusing its buffers and JPEG decoder. Not thread-safe

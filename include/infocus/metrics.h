@@ -78,8 +78,13 @@ void sharpness(const Luma8& luma, std::span<const Rect> regions, const Sharpness
 /// Score of one region (the same number sharpness() gives for it).
 double regionSharpness(const Luma8& luma, const Rect& region, const SharpnessParams& params);
 
-/// Whole-frame score: the mean of an 8×6 grid's scores, or with @p centreWeighted a mean weighted
-/// by a Gaussian of the distance from the centre (σ = a quarter of the diagonal).
+/// Whole-frame score from region scores: their area-weighted mean, or with @p centreWeighted
+/// weighted also by a Gaussian of the region centre's distance from the image centre (σ = a
+/// quarter of the diagonal), as a photographer's centre-weighted meter. 0 for no regions.
+double combineScores(std::span<const Rect> regions, std::span<const double> scores, int width,
+                     int height, bool centreWeighted);
+
+/// Whole-frame score of @p luma: combineScores over an 8×6 grid.
 double frameSharpness(const Luma8& luma, const SharpnessParams& params, bool centreWeighted);
 
 /// Estimates the white-noise σ of @p luma in grey levels (Immerkær 1996, "Fast noise variance

@@ -25,6 +25,7 @@ struct AnalyzeArgs {
     std::string format = "jsonl";
     std::string output;
     bool noBlur = false;
+    bool centreWeighted = false;
 };
 
 std::string csvNumber(const std::optional<double>& v) {
@@ -62,6 +63,8 @@ void writeTable(std::ostream& out, const FrameAnalysis& a, bool grid) {
         std::snprintf(buf, sizeof buf, "  noise σ %.2f", *a.noiseSigma);
         out << buf;
     }
+    std::snprintf(buf, sizeof buf, "  whole frame %s %.4g", a.metric.c_str(), a.frameSharpness);
+    out << buf;
     out << "\n";
     if (!grid) {
         for (const auto& r : a.regions) {
@@ -127,6 +130,7 @@ int runAnalyze(const AnalyzeArgs& args) {
     }
     options.metric = args.metric;
     options.measureBlur = !args.noBlur;
+    options.centreWeighted = args.centreWeighted;
     if (args.format != "jsonl" && args.format != "csv" && args.format != "table")
         return usageError(cmd, "--format " + args.format + ": use jsonl, csv or table");
 
@@ -194,6 +198,9 @@ Command addAnalyzeCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("-o,--output", args->output, "Write to FILE instead of stdout");
     sub->add_flag("--no-blur", args->noBlur, "Sharpness only: skip the blur-width measurement");
+    sub->add_flag(
+        "--centre-weighted", args->centreWeighted,
+        "frame_sharpness weights regions near the centre more (Gaussian, σ = diagonal/4)");
     return {sub, [args] { return runAnalyze(*args); }};
 }
 

@@ -88,6 +88,7 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
     std::vector<double> scores(rects.size());
     sharpness(img, rects, params, scores);
 
+    a.frameSharpness = combineScores(rects, scores, img.width, img.height, o.centreWeighted);
     a.regions.resize(rects.size());
     for (size_t i = 0; i < rects.size(); ++i) {
         RegionResult& r = a.regions[i];

@@ -33,6 +33,7 @@ std::string toJsonLine(const FrameAnalysis& a) {
     j["height"] = a.height;
     if (!a.metric.empty()) j["metric"] = a.metric;
     if (a.noiseSigma) j["noise_sigma"] = *a.noiseSigma;
+    j["frame_sharpness"] = a.frameSharpness;
     Json regions = Json::array();
     for (const auto& r : a.regions) {
         Json o;
@@ -68,6 +69,7 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
         a.width = j.at("width").get<int>();
         a.height = j.at("height").get<int>();
         a.metric = j.value("metric", std::string());
+        a.frameSharpness = j.value("frame_sharpness", 0.0);
         if (j.contains("noise_sigma") && j["noise_sigma"].is_number())
             a.noiseSigma = j["noise_sigma"].get<double>();
         if (j.contains("lens_position") && j["lens_position"].is_object()) {

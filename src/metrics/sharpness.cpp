@@ -262,23 +262,28 @@ void sharpness(const Luma8& luma, std::span<const Rect> regions, const Sharpness
         j.get();
 }
 
-double frameSharpness(const Luma8& luma, const SharpnessParams& params, bool centreWeighted) {
-    const auto regions = gridRegions(luma.width, luma.height, 8, 6);
-    if (regions.empty()) return regionSharpness(luma, {0, 0, luma.width, luma.height}, params);
-    std::vector<double> scores(regions.size());
-    sharpness(luma, regions, params, scores);
-    const double cx = luma.width / 2.0, cy = luma.height / 2.0;
-    const double sigma = std::hypot(luma.width, luma.height) / 4.0;
+double combineScores(std::span<const Rect> regions, std::span<const double> scores, int width,
+                     int height, bool centreWeighted) {
+    const double cx = width / 2.0, cy = height / 2.0;
+    const double sigma = std::hypot(width, height) / 4.0;
     double sum = 0, wsum = 0;
-    for (size_t i = 0; i < regions.size(); ++i) {
+    for (size_t i = 0; i < regions.size() && i < scores.size(); ++i) {
         const Rect& r = regions[i];
         const double dx = r.x + r.w / 2.0 - cx, dy = r.y + r.h / 2.0 - cy;
-        const double w =
-            centreWeighted ? std::exp(-(dx * dx + dy * dy) / (2 * sigma * sigma)) : 1.0;
+        double w = static_cast<double>(r.w) * r.h;
+        if (centreWeighted) w *= std::exp(-(dx * dx + dy * dy) / (2 * sigma * sigma));
         sum += w * scores[i];
         wsum += w;
     }
-    return sum / wsum;
+    return wsum > 0 ? sum / wsum : 0.0;
+}
+
+double frameSharpness(const Luma8& luma, const SharpnessParams& params, bool centreWeighted) {
+    auto regions = gridRegions(luma.width, luma.height, 8, 6);
+    if (regions.empty()) regions.push_back({0, 0, luma.width, luma.height});
+    std::vector<double> scores(regions.size());
+    sharpness(luma, regions, params, scores);
+    return combineScores(regions, scores, luma.width, luma.height, centreWeighted);
 }
 
 double estimateNoiseSigma(const Luma8& img) {

@@ -261,3 +261,25 @@ TEST_CASE("noise estimate recovers added white noise", "[sharpness][noise]") {
     INFO("clean " << truth << " noisy " << without << " compensated " << with);
     CHECK(std::abs(with - truth) < 0.25 * std::abs(without - truth));
 }
+
+TEST_CASE("whole-frame score: area mean, and centre weighting favours a sharp centre",
+          "[sharpness]") {
+    // Sharp texture in the middle third, the same texture blurred (σ 4) around it.
+    const cv::Mat sharp = octaveTexture(960, 540, 21);
+    cv::Mat img = gaussian(sharp, 4.0);
+    const cv::Rect centre(320, 180, 320, 180);
+    sharp(centre).copyTo(img(centre));
+    SharpnessParams p;
+    const auto regions = gridRegions(960, 540, 3, 3);
+    std::vector<double> s(regions.size());
+    sharpness(view(img), regions, p, s);
+    double mean = 0;
+    for (double v : s)
+        mean += v / 9;  // equal areas: the area mean is the plain mean
+    CHECK(combineScores(regions, s, 960, 540, false) == Approx(mean).epsilon(1e-12));
+    const double weighted = combineScores(regions, s, 960, 540, true);
+    CHECK(weighted > 1.2 * mean);
+    CHECK(weighted < s[4]);
+    CHECK(frameSharpness(view(img), p, true) > frameSharpness(view(img), p, false));
+    CHECK(combineScores({}, {}, 960, 540, true) == 0.0);
+}
