@@ -6,11 +6,11 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <regex>
 
 #include "commands.h"
 #include "infocus/analysis.h"
 #include "infocus/metrics.h"
+#include "parse.h"
 
 namespace infocus::cli {
 
@@ -114,19 +114,17 @@ void writeTable(std::ostream& out, const FrameAnalysis& a, bool grid) {
 int runAnalyze(const AnalyzeArgs& args) {
     const std::string cmd = "analyze";
     AnalysisOptions options;
-    std::smatch m;
-    static const std::regex gridRe(R"((\d{1,3})x(\d{1,3}))");
-    if (!std::regex_match(args.grid, m, gridRe))
+    const auto grid = parseGrid(args.grid);
+    if (!grid)
         return usageError(cmd, "--grid " + args.grid + ": give columns x rows, e.g. --grid 16x9");
-    options.cols = std::stoi(m[1]);
-    options.rows = std::stoi(m[2]);
-    static const std::regex roiRe(R"((\d+),(\d+),(\d+),(\d+))");
+    options.cols = grid->first;
+    options.rows = grid->second;
     for (const auto& r : args.rois) {
-        if (!std::regex_match(r, m, roiRe))
+        const auto roi = parseRoi(r);
+        if (!roi)
             return usageError(cmd,
                               "--roi " + r + ": give x,y,w,h in pixels, e.g. --roi 100,80,320,240");
-        options.rois.push_back(
-            {std::stoi(m[1]), std::stoi(m[2]), std::stoi(m[3]), std::stoi(m[4])});
+        options.rois.push_back(*roi);
     }
     options.metric = args.metric;
     options.measureBlur = !args.noBlur;

@@ -10,13 +10,13 @@
 #include <iostream>
 #include <limits>
 #include <memory>
-#include <regex>
 #include <string>
 
 #include "commands.h"
 #include "infocus/analysis.h"
 #include "infocus/plane_fit.h"
 #include "lens_options.h"
+#include "parse.h"
 
 namespace infocus::cli {
 
@@ -278,12 +278,11 @@ int runDepth(const DepthArgs& args) {
         }
     } else {
         AnalysisOptions options;
-        std::smatch m;
-        static const std::regex gridRe(R"((\d{1,3})x(\d{1,3}))");
-        if (!std::regex_match(args.grid, m, gridRe))
+        const auto grid = parseGrid(args.grid);
+        if (!grid)
             return usageError(kName, "--grid " + args.grid + ": give columns x rows, e.g. 16x9");
-        options.cols = std::stoi(m[1]);
-        options.rows = std::stoi(m[2]);
+        options.cols = grid->first;
+        options.rows = grid->second;
         if (const Status st = analyzeSource(args.input, options, args.frames, sink); !st)
             return reportError(kName, st.error());
     }

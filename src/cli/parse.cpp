@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: MIT
+#include "parse.h"
+
+#include <charconv>
+#include <vector>
+
+namespace infocus::cli {
+
+namespace {
+
+// Splits @p text at @p sep into non-negative integers; nullopt if any part is not one.
+std::optional<std::vector<int>> integers(std::string_view text, char sep) {
+    std::vector<int> out;
+    while (true) {
+        const size_t pos = text.find(sep);
+        const std::string_view part = text.substr(0, pos);
+        int v = 0;
+        const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), v);
+        if (part.empty() || ec != std::errc() || end != part.data() + part.size() || v < 0)
+            return std::nullopt;
+        out.push_back(v);
+        if (pos == std::string_view::npos) return out;
+        text.remove_prefix(pos + 1);
+    }
+}
+
+}  // namespace
+
+std::optional<std::pair<int, int>> parseGrid(std::string_view text) {
+    auto v = integers(text, 'x');
+    if (!v || v->size() != 2 || (*v)[0] < 1 || (*v)[1] < 1 || (*v)[0] > 999 || (*v)[1] > 999)
+        return std::nullopt;
+    return std::pair{(*v)[0], (*v)[1]};
+}
+
+std::optional<Rect> parseRoi(std::string_view text) {
+    auto v = integers(text, ',');
+    if (!v || v->size() != 4) return std::nullopt;
+    return Rect{(*v)[0], (*v)[1], (*v)[2], (*v)[3]};
+}
+
+}  // namespace infocus::cli

@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: MIT
+/// @file parse.h
+/// Small parsers for the command line's structured values.
+#pragma once
+
+#include <optional>
+#include <string_view>
+#include <utility>
+
+#include "infocus/image.h"
+
+namespace infocus::cli {
+
+/// Parses "CxR" (e.g. "16x9", 1–999 each) into columns and rows; nullopt when malformed.
+std::optional<std::pair<int, int>> parseGrid(std::string_view text);
+
+/// Parses "x,y,w,h" (non-negative integers) into a rectangle; nullopt when malformed.
+std::optional<Rect> parseRoi(std::string_view text);
+
+}  // namespace infocus::cli
