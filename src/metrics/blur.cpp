@@ -45,23 +45,32 @@ void forEachRow(const Patch& p, const Bounds& b, Fn&& fn) {
     const double rv = std::abs(p.hw * p.ny) + std::abs(p.hl * p.nx);
     const int y0 = std::max(b.y0, static_cast<int>(std::floor(p.cy - rv - 0.5)));
     const int y1 = std::min(b.y1 - 1, static_cast<int>(std::ceil(p.cy + rv - 0.5)));
+    // |dx·nx + dy·ny| ≤ hw  and  |−dx·ny + dy·nx| ≤ hl, solved for dx: each slab bounds dx to
+    // centre(dy) ± half, with centre linear in dy, so a 45° patch costs its area, not its
+    // bounding box, and a row costs a few multiplications.
+    struct Slab {
+        bool open;           // the slab does not constrain x (normal along y)
+        double slope, half;  // dx centre = slope·dy, half-extent
+        double h, c;         // for a closed slab: |c·dy| ≤ h
+    };
+    auto makeSlab = [](double a, double coef, double h) {
+        if (std::abs(a) < 1e-12) return Slab{true, 0.0, 0.0, h, coef};
+        const double inv = 1.0 / a;
+        return Slab{false, -coef * inv, std::abs(h * inv), h, coef};
+    };
+    const Slab s1 = makeSlab(p.nx, p.ny, p.hw), s2 = makeSlab(-p.ny, p.nx, p.hl);
     for (int y = y0; y <= y1; ++y) {
         const double dy = y + 0.5 - p.cy;
         double lo = p.cx - r - 1.0, hi = p.cx + r + 1.0;
-        // |dx·nx + dy·ny| ≤ hw  and  |−dx·ny + dy·nx| ≤ hl, solved for dx: a 45° patch costs
-        // its area, not its bounding box.
-        auto clampSlab = [&](double a, double c, double h) {
-            if (std::abs(a) < 1e-12) {
-                if (std::abs(c) > h) hi = lo - 1.0;
-                return;
+        for (const Slab& sl : {s1, s2}) {
+            if (sl.open) {
+                if (std::abs(sl.c * dy) > sl.h) hi = lo - 1.0;
+                continue;
             }
-            double e0 = (-h - c) / a, e1 = (h - c) / a;
-            if (e0 > e1) std::swap(e0, e1);
-            lo = std::max(lo, p.cx + e0);
-            hi = std::min(hi, p.cx + e1);
-        };
-        clampSlab(p.nx, dy * p.ny, p.hw);
-        clampSlab(-p.ny, dy * p.nx, p.hl);
+            const double centre = p.cx + sl.slope * dy;
+            lo = std::max(lo, centre - sl.half);
+            hi = std::min(hi, centre + sl.half);
+        }
         const int x0 = std::max(b.x0, static_cast<int>(std::ceil(lo - 0.5)));
         const int x1 = std::min(b.x1 - 1, static_cast<int>(std::floor(hi - 0.5)));
         if (x0 <= x1) fn(y, x0, x1, p.u(x0 + 0.5, y + 0.5), p.t(x0 + 0.5, y + 0.5));
