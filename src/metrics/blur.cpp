@@ -18,6 +18,8 @@ constexpr double kPixelVariance = 1.0 / 12.0;
 constexpr double kGaussianRisePerSigma = 2.5631;
 // Plateau levels (grey) at which an edge counts as clipped by the sensor or the encoder.
 constexpr double kClipLow = 3.0, kClipHigh = 252.0;
+// Segment lengths tried per seed (halved from the longest down to 6 px: 48 → 6 is 4).
+constexpr int kMaxLengths = 8;
 
 struct Bounds {
     int x0, y0, x1, y1;  // half-open [x0, x1) × [y0, y1)
@@ -345,6 +347,9 @@ struct EdgeTrial {
     // Quality from the first pass alone (no overshoot, σ of the truncated window): a guide to
     // which segment length to widen, never reported.
     double provisional = 0.0;
+    // Straightness share of the quality after the first pass (exp(−bend²), with the σ of the
+    // first fit where it has one): whether a longer segment is worth a probe.
+    double straightShare = 0.0;
 };
 
 EdgeTrial startTrial(const Candidate& c, double halfLength) {
@@ -375,6 +380,11 @@ void runTrial(const Luma8& img, const Bounds& b, const BlurOptions& o, EdgeTrial
         thread_local std::vector<Bin> bins;
         sampleEsf(img, b, patch, o.binPx, bins);
         const EsfFit f = fitEsf(bins, patch.hw, o.minContrast);
+        if (pass == 0) {
+            const double sd = std::sqrt(std::max(f.varLsf, kPixelVariance));
+            const double bend = straight / (0.3 + 0.25 * sd);
+            tr.straightShare = std::exp(-bend * bend);
+        }
         // A clipped edge (a plateau at black or white) has lost the part of its spread beyond the
         // clip: its moment says nothing about the blur.
         if (f.ok && (f.lo <= kClipLow || f.lo + f.contrast >= kClipHigh))
@@ -460,36 +470,47 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
         if (covered) continue;
         ++attempts;
         // Long segments average more pixels; curved or crowded edges (texture) only stay straight
-        // and clean over a short one: halve the length until the edge measures well. Every
-        // length gets the cheap first pass; only a length that already looks good (measured in
-        // full at once), or else the best-looking one, is widened: widening is most of the cost.
+        // and clean over a short one. Each length gets a cheap first pass (geometry and a narrow
+        // ESF), shortest first: a longer segment is probed only while the shorter one is
+        // straight, since an edge that bends over a short segment bends more over a long one. Then
+        // the longest good-looking length is widened and measured in full (or, if none measures
+        // well, the best-looking one): widening is most of the cost.
+        double lengths[kMaxLengths];
+        int nLengths = 0;
+        for (double len = halfLength; len >= 6.0 && nLengths < kMaxLengths; len *= 0.5)
+            lengths[nLengths++] = len;
+        EdgeTrial trials[kMaxLengths];
+        int first = nLengths;  // trials[first..nLengths) were probed
+        for (int j = nLengths - 1; j >= 0; --j) {
+            trials[j] = startTrial(c, lengths[j]);
+            runTrial(luma, sb, options, trials[j], 1);
+            first = j;
+            // Stop at a segment that is already bent: noise, a failed fit or too few edge
+            // slices (at a border) on a short segment say little about a longer one, bending does.
+            if (trials[j].straight >= 0.0 && trials[j].straightShare <= 0.3) break;
+        }
         std::optional<EdgeMeasurement> best;
-        Patch bestPatch{};
-        EdgeTrial pending[4];
-        int nPending = 0;
+        // Seeds on this edge are skipped later over the full length, measured or not.
+        Patch bestPatch = trials[first].patch;
+        bestPatch.hl = halfLength;
         auto consider = [&](const EdgeTrial& tr) {
             if (tr.result && (!best || tr.result->quality > best->quality)) {
                 best = tr.result;
                 bestPatch = tr.patch;
             }
         };
-        for (double len = halfLength; len >= 6.0; len *= 0.5) {
-            EdgeTrial tr = startTrial(c, len);
-            runTrial(luma, sb, options, tr, 1);
+        EdgeTrial* pick = nullptr;
+        for (int j = first; j < nLengths; ++j) {
+            EdgeTrial& tr = trials[j];
             if (!tr.done && tr.provisional > 0.3) runTrial(luma, sb, options, tr, 6);
-            if (len == halfLength) bestPatch = tr.patch;
             if (tr.done) {
                 consider(tr);
                 if (best && best->quality > 0.3) break;
-            } else if (nPending < 4) {
-                pending[nPending++] = tr;
+            } else if (!pick || tr.provisional > pick->provisional) {
+                pick = &tr;
             }
         }
-        if (!(best && best->quality > 0.3) && nPending > 0) {
-            EdgeTrial* pick = std::max_element(pending, pending + nPending,
-                                               [](const EdgeTrial& a, const EdgeTrial& b) {
-                                                   return a.provisional < b.provisional;
-                                               });
+        if (!(best && best->quality > 0.3) && pick) {
             runTrial(luma, sb, options, *pick, 6);
             consider(*pick);
         }
