@@ -22,10 +22,14 @@ std::string fixedString(const uint8_t* s, size_t n) {
 
 std::string fourccText(uint32_t f) {
     std::string s;
+    // Bit 31 marks the big-endian variant of a format (v4l2_fourcc_be), not a character.
+    constexpr uint32_t kBigEndian = 1u << 31;
+    const uint32_t code = f & ~kBigEndian;
     for (int i = 0; i < 4; ++i)
-        s += static_cast<char>((f >> (8 * i)) & 0xff);
+        s += static_cast<char>((code >> (8 * i)) & 0xff);
     while (!s.empty() && s.back() == ' ')
         s.pop_back();
+    if (f & kBigEndian) s += "-BE";
     return s;
 }
 
@@ -169,6 +173,25 @@ std::vector<capture::FormatOption> Device::enumerateFormats() const {
     return out;
 }
 
+bool Device::trySize(uint32_t fourcc, Size size) const {
+    v4l2_format fmt{};
+    fmt.type = cap_.bufType();
+    if (cap_.multiplanar()) {
+        fmt.fmt.pix_mp.pixelformat = fourcc;
+        fmt.fmt.pix_mp.width = uint32_t(size.width);
+        fmt.fmt.pix_mp.height = uint32_t(size.height);
+    } else {
+        fmt.fmt.pix.pixelformat = fourcc;
+        fmt.fmt.pix.width = uint32_t(size.width);
+        fmt.fmt.pix.height = uint32_t(size.height);
+    }
+    if (ioctl(VIDIOC_TRY_FMT, &fmt) < 0) return false;
+    return cap_.multiplanar() ? fmt.fmt.pix_mp.width == uint32_t(size.width) &&
+                                    fmt.fmt.pix_mp.height == uint32_t(size.height)
+                              : fmt.fmt.pix.width == uint32_t(size.width) &&
+                                    fmt.fmt.pix.height == uint32_t(size.height);
+}
+
 std::optional<capture::Mode> Device::currentMode() const {
     v4l2_format fmt{};
     fmt.type = cap_.bufType();
@@ -250,6 +273,7 @@ Result<DeviceInfo> describeDevice(const std::string& path) {
     info.driver = cap.driver;
     info.card = cap.card;
     info.bus = cap.bus;
+    info.mediaController = cap.mediaController();
     if (auto m = dev->currentMode())
         info.currentFormat = fourccText(m->fourcc) + " " + std::to_string(m->size.width) + "x" +
                              std::to_string(m->size.height);

@@ -25,6 +25,9 @@ struct Capability {
     std::string driver, card, bus;
     uint32_t caps = 0;  ///< device_caps of this node
     bool capture() const;
+    /// True for a media-controller node (V4L2_CAP_IO_MC): it streams only once its pipeline is
+    /// configured, which libcamera does.
+    bool mediaController() const { return caps & V4L2_CAP_IO_MC; }
     bool multiplanar() const {
         return (caps & V4L2_CAP_VIDEO_CAPTURE_MPLANE) && !(caps & V4L2_CAP_VIDEO_CAPTURE);
     }
@@ -59,6 +62,8 @@ public:
     /// Every format, size and frame rate of the capture queue (stepwise sizes are sampled at
     /// their maximum and at common sizes inside the range).
     std::vector<capture::FormatOption> enumerateFormats() const;
+    /// True when the driver accepts @p fourcc at exactly @p size (VIDIOC_TRY_FMT, no change made).
+    bool trySize(uint32_t fourcc, Size size) const;
     /// The current capture mode (format, size, rate), when the driver reports it.
     std::optional<capture::Mode> currentMode() const;
 

@@ -5,6 +5,7 @@
 #include <sys/mman.h>
 #include <time.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstring>
 #include <mutex>
@@ -174,8 +175,17 @@ public:
         for (unsigned i = 0; i < pool_->buffers.size(); ++i)
             if (Status s = queue(i); !s) return s;
         uint32_t type = dev_.capability().bufType();
-        if (int r = dev_.ioctl(VIDIOC_STREAMON, &type); r < 0)
+        if (int r = dev_.ioctl(VIDIOC_STREAMON, &type); r < 0) {
+            if (r == -EPIPE && dev_.capability().mediaController())
+                return makeError(ErrorKind::Unsupported,
+                                 dev_.path() +
+                                     " is one node of a media-controller pipeline that is "
+                                     "not configured; open the camera through libcamera "
+                                     "('infocus devices' lists it) or set the pipeline up "
+                                     "with media-ctl",
+                                 EPIPE);
             return devError("VIDIOC_STREAMON", r);
+        }
         streaming_ = true;
         if (focus_) {
             if (auto p = focus_->get()) lens_ = *p;
@@ -480,6 +490,16 @@ Result<std::unique_ptr<FrameSource>> openV4l2Source(const SourceSpec& spec) {
         if (request->size && !(current && current->size == *request->size))
             f.sizes.push_back({*request->size, {}});
     }
+    // Stepwise ranges are sampled; a requested size inside one is confirmed with VIDIOC_TRY_FMT.
+    if (request->size)
+        for (auto& f : offered) {
+            if (request->format && f.format != *request->format) continue;
+            const bool listed = std::any_of(f.sizes.begin(), f.sizes.end(), [&](const auto& o) {
+                return o.size == *request->size;
+            });
+            if (!listed && dev->trySize(f.fourcc, *request->size))
+                f.sizes.push_back({*request->size, {}});
+        }
     auto mode = capture::chooseMode(offered, *request, current);
     if (!mode)
         return makeError(mode.error().kind,

@@ -50,6 +50,7 @@ struct DeviceInfo {
     std::string driver;  ///< kernel driver or libcamera pipeline/model
     std::string card;    ///< card or model name
     std::string bus;     ///< bus info (V4L2) or location
+    bool mediaController = false;  ///< V4L2 node of a media-controller pipeline (use libcamera)
     std::optional<std::string> currentFormat;  ///< "YUYV 640x480" when readable
     std::vector<DeviceFormat> formats;
     std::optional<DeviceControl> focus;  ///< absolute focus, when the camera can move its lens

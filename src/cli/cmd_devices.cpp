@@ -51,6 +51,8 @@ void printText(const std::vector<DeviceInfo>& devices) {
     for (const auto& d : devices) {
         std::printf("%s  %s (%s, %s%s%s)\n", d.sourceString.c_str(), d.card.c_str(),
                     d.driver.c_str(), d.device.c_str(), d.bus.empty() ? "" : ", ", d.bus.c_str());
+        if (d.mediaController)
+            std::printf("    media-controller node: streams through libcamera, not directly\n");
         if (d.currentFormat) std::printf("    current: %s\n", d.currentFormat->c_str());
         for (const auto& f : d.formats) {
             std::printf("    %-6s %s%s\n", f.fourcc.c_str(), f.description.c_str(),
@@ -89,6 +91,7 @@ int runDevices(const DevicesArgs& args) {
             j["driver"] = d.driver;
             j["card"] = d.card;
             j["bus"] = d.bus;
+            j["media_controller"] = d.mediaController;
             j["current_format"] = d.currentFormat ? nlohmann::ordered_json(*d.currentFormat)
                                                   : nlohmann::ordered_json();
             auto formats = nlohmann::ordered_json::array();

@@ -1,0 +1,87 @@
+#!/bin/sh
+# /init of the test VM: loads vivid and vimc, starts udev for libcamera, runs infocus against the
+# real drivers and prints every result as "@@TAG ..." lines that tests/vm/check.py judges.
+export PATH=/bin:/sbin:/usr/bin:/usr/sbin
+mount -t proc proc /proc
+mount -t sysfs sys /sys
+mount -t devtmpfs dev /dev
+mount -t tmpfs tmp /tmp
+mount -t tmpfs run /run
+ln -sf infocus.bin /bin/infocus
+
+for m in $(cat /mods/order); do
+	case $m in
+	vivid.ko) insmod /mods/vivid.ko n_devs=1 node_types=0x101 ;;
+	*) insmod /mods/$m ;;
+	esac
+done
+insmod /mods/vimc.ko 2>/dev/null
+/lib/systemd/systemd-udevd --daemon 2>/dev/null
+udevadm trigger --action=add
+udevadm settle --timeout=20
+
+# run TAG COMMAND...: the command's stdout, stderr and exit status, tagged.
+run() {
+	tag=$1
+	shift
+	"$@" >/tmp/out 2>/tmp/err
+	rc=$?
+	sed "s/^/@@$tag.out /" /tmp/out
+	sed "s/^/@@$tag.err /" /tmp/err
+	echo "@@$tag.rc $rc"
+}
+
+# vivid's nodes, found by name in sysfs (numbering depends on load order).
+cap=""
+out=""
+for n in /sys/class/video4linux/video*; do
+	name=$(cat "$n/name")
+	case $name in
+	vivid-000-vid-cap) cap=/dev/$(basename "$n") ;;
+	vivid-000-vid-out) out=/dev/$(basename "$n") ;;
+	esac
+done
+echo "@@nodes cap=$cap out=$out"
+v4l2-ctl -d "$cap" -L 2>&1 | sed 's/^/@@diag /'
+
+# a. discovery
+run a infocus devices --json
+run a_text infocus devices
+run a_unit test_drivers_v4l2_device
+
+# b. capture and analysis from both backends
+run b_v4l2_rec infocus record "v4l2:$cap" -o /tmp/rec_v4l2 --frames 6
+run b_v4l2_ana infocus analyze /tmp/rec_v4l2 --grid 4x3
+run b_lc_rec infocus record libcamera:0 -o /tmp/rec_lc --frames 4
+run b_lc_ana infocus analyze /tmp/rec_lc --grid 4x3
+
+# c. loopback: frames of known blur through vivid's output node into its capture node
+v4l2-ctl -d "$cap" -i 2 -c loop_video=1 --set-fmt-video=width=720,height=480,pixelformat=YUYV,field=interlaced
+v4l2-ctl -d "$out" -o 0 --set-fmt-video-out=width=720,height=480,pixelformat=YUYV,field=interlaced
+for s in 0 1 2 4; do
+	v4l2-ctl -d "$out" -o 0 --stream-out-mmap --stream-from=/data/blur$s.yuyv --stream-loop >/dev/null 2>&1 &
+	pid=$!
+	sleep 1
+	# The first frames may predate the output stream: analyze a few and judge the last.
+	run c_$s infocus analyze "v4l2:$cap,input=2,format=YUYV,size=720x480" --frames 5 --grid 3x2
+	kill $pid
+	wait $pid 2>/dev/null
+done
+
+# d. faults on the webcam input: buffer errors and drops are counted; a disconnect ends the run
+v4l2-ctl -d "$cap" -i 0
+(sleep 2; v4l2-ctl -d "$cap" -c percentage_of_dropped_buffers=30; sleep 2
+	v4l2-ctl -d "$cap" -c percentage_of_dropped_buffers=0
+	for i in 1 2 3; do v4l2-ctl -d "$cap" -c inject_v4l2_buf_flag_error=1; sleep 1; done) >/dev/null 2>&1 &
+run d_faults infocus record "v4l2:$cap,size=320x180" -o /tmp/rec_faults --seconds 8
+wait
+rm -rf /tmp/rec_v4l2 /tmp/rec_lc /tmp/rec_faults
+(sleep 3; v4l2-ctl -d "$cap" -c disconnect=1 2>&1 | sed "s/^/@@diag_disc /"; echo "@@diag_disc rc $?") &
+run d_unplug infocus record "v4l2:$cap,size=320x180" -o /tmp/rec_unplug --seconds 30
+wait
+run d_replay infocus analyze /tmp/rec_unplug --grid 2x2
+
+df -k /tmp | sed "s/^/@@diag /"
+echo "@@done"
+sync
+poweroff -f
