@@ -20,6 +20,8 @@ constexpr double kGaussianRisePerSigma = 2.5631;
 constexpr double kClipLow = 3.0, kClipHigh = 252.0;
 // Segment lengths tried per seed (halved from the longest down to 6 px: 48 → 6 is 4).
 constexpr int kMaxLengths = 8;
+// σ (px, of the first, narrow fit) below which a widened patch keeps the fitted geometry.
+constexpr double kRefitSigmaPx = 1.5;
 
 struct Bounds {
     int x0, y0, x1, y1;  // half-open [x0, x1) × [y0, y1)
@@ -350,6 +352,7 @@ struct EdgeTrial {
     // Straightness share of the quality after the first pass (exp(−bend²), with the σ of the
     // first fit where it has one): whether a longer segment is worth a probe.
     double straightShare = 0.0;
+    bool sharp = false;  // the first fit found σ < kRefitSigmaPx
 };
 
 EdgeTrial startTrial(const Candidate& c, double halfLength) {
@@ -372,8 +375,11 @@ void runTrial(const Luma8& img, const Bounds& b, const BlurOptions& o, EdgeTrial
     };
     for (; tr.pass < std::min(untilPass, 6); ++tr.pass) {
         const int pass = tr.pass;
-        // Two refinements from the seed's rough normal, one after each widening.
-        for (int it = 0; it < (pass == 0 ? 2 : 1); ++it) {
+        // Two refinements from the seed's rough normal, one after each widening; a sharp edge
+        // (σ of the first fit below kRefitSigmaPx) keeps the first geometry when widened once:
+        // its derivative lies well inside the first slab, which already located it.
+        const int refits = pass == 0 ? 2 : (pass == 1 && tr.sharp ? 0 : 1);
+        for (int it = 0; it < refits; ++it) {
             straight = refineGeometry(img, b, patch, threshold);
             if (straight < 0.0) return finish(std::nullopt);
         }
@@ -428,6 +434,7 @@ void runTrial(const Luma8& img, const Bounds& b, const BlurOptions& o, EdgeTrial
             tr.provisional = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend);
         }
         const double sd = std::sqrt(std::max(f.varLsf, 0.1));
+        if (pass == 0) tr.sharp = sd < kRefitSigmaPx;
         patch.hw = std::min(o.maxHalfWidthPx, std::max(1.6 * patch.hw, 4.0 * sd + 4.0));
     }
     if (tr.pass >= 6) finish(std::nullopt);
