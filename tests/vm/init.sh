@@ -77,7 +77,7 @@ run d_faults infocus record "v4l2:$cap,size=320x180" -o /tmp/rec_faults --second
 wait
 rm -rf /tmp/rec_v4l2 /tmp/rec_lc /tmp/rec_faults
 (sleep 3; v4l2-ctl -d "$cap" -c disconnect=1 2>&1 | sed "s/^/@@diag_disc /"; echo "@@diag_disc rc $?") &
-run d_unplug infocus record "v4l2:$cap,size=320x180" -o /tmp/rec_unplug --seconds 30
+run d_unplug infocus record "v4l2:$cap,size=320x180" -o /tmp/rec_unplug --seconds 12
 wait
 run d_replay infocus analyze /tmp/rec_unplug --grid 2x2
 
