@@ -10,7 +10,7 @@ pkgs=(meson ninja-build pkg-config g++ clang-format
 if [[ "${1:-}" == "--vm" ]]; then
 	pkgs+=(qemu-system-x86 linux-image-amd64 busybox-static v4l-utils cpio
 		linux-source-6.1 libcamera-ipa libcamera-tools udev xz-utils make bc
-		flex bison libelf-dev libssl-dev)
+		flex bison libelf-dev libssl-dev linux-headers-amd64)
 fi
 
 missing=()
