@@ -76,7 +76,12 @@ v4l2-ctl -d "$cap" -i 0
 run d_faults infocus record "v4l2:$cap,size=320x180" -o /tmp/rec_faults --seconds 8
 wait
 rm -rf /tmp/rec_v4l2 /tmp/rec_lc /tmp/rec_faults
-(sleep 3; v4l2-ctl -d "$cap" -c disconnect=1 2>&1 | sed "s/^/@@diag_disc /"; echo "@@diag_disc rc $?") &
+# Unplug only once frames are being recorded: infocus takes seconds to start under emulation, and a
+# disconnect before it opens the node is undone by vivid as soon as v4l2-ctl closes it.
+(for i in $(seq 1 60); do [ -s /tmp/rec_unplug/frames.bin ] && break; sleep 1; done
+	sleep 1
+	v4l2-ctl -d "$cap" -c disconnect=1 2>&1 | sed "s/^/@@diag_disc /"
+	echo "@@diag_disc sent") &
 run d_unplug infocus record "v4l2:$cap,size=320x180" -o /tmp/rec_unplug --seconds 12
 wait
 run d_replay infocus analyze /tmp/rec_unplug --grid 2x2
