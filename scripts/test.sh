@@ -2,6 +2,9 @@
 # Installs what is missing, builds, and runs every test. Ends with "N passed, N failed".
 #   scripts/test.sh              unit, integration, CLI and style tests (build/)
 #   scripts/test.sh --sanitize   the same under AddressSanitizer + UBSan (build-asan/)
+# After the unit tests it runs the real-driver tier (tests/vm/run.sh: vivid and vimc in qemu) and
+# counts its parts in the closing line; INFOCUS_NO_VM=1 leaves it out (it is left out under
+# --sanitize and when a camera backend is disabled).
 # Environment: INFOCUS_MESON_OPTS adds meson options (e.g. "-Dv4l2=disabled -Dlibcamera=disabled").
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -9,7 +12,10 @@ cd "$here" || exit 1
 
 builddir=build
 opts=(${INFOCUS_MESON_OPTS:-})
+vm=${INFOCUS_NO_VM:+no}
+[[ "${INFOCUS_MESON_OPTS:-}" == *disabled* ]] && vm=no
 if [[ "${1:-}" == "--sanitize" ]]; then
+	vm=no
 	builddir=build-asan
 	# lundef=false: the sanitizer runtimes resolve symbols at load time.
 	opts+=(-Db_sanitize=address,undefined -Db_lundef=false -Dbuildtype=debugoptimized)
@@ -43,6 +49,18 @@ for line in open(sys.argv[1]):
 print(p, f, s)
 PY
 )
+passed=${passed:-0}
+failed=${failed:-1}
+if [[ "$vm" != no ]]; then
+	echo "== real-driver tier (tests/vm/run.sh) =="
+	vmout=$(tests/vm/run.sh "$builddir" 2>&1 | tee /dev/stderr)
+	vmstatus=$?
+	read -r vp vf < <(grep -E '^[0-9]+ passed, [0-9]+ failed$' <<<"$vmout" | tail -1 |
+		sed -E 's/([0-9]+) passed, ([0-9]+) failed/\1 \2/')
+	passed=$((passed + ${vp:-0}))
+	failed=$((failed + ${vf:-1}))
+	[[ $vmstatus -eq 0 ]] || status=1
+fi
 if [[ "${skipped:-0}" -gt 0 ]]; then
 	echo "${passed:-0} passed, ${failed:-1} failed, ${skipped} skipped"
 else
