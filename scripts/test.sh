@@ -53,13 +53,17 @@ passed=${passed:-0}
 failed=${failed:-1}
 if [[ "$vm" != no ]]; then
 	echo "== real-driver tier (tests/vm/run.sh) =="
-	vmout=$(tests/vm/run.sh "$builddir" 2>&1 | tee /dev/stderr)
+	# Through a file, not tee: stdout may itself be a file that a reopen would truncate.
+	vmlog=$(mktemp)
+	tests/vm/run.sh "$builddir" >"$vmlog" 2>&1
 	vmstatus=$?
-	read -r vp vf < <(grep -E '^[0-9]+ passed, [0-9]+ failed$' <<<"$vmout" | tail -1 |
+	cat "$vmlog"
+	read -r vp vf < <(grep -E '^[0-9]+ passed, [0-9]+ failed$' "$vmlog" | tail -1 |
 		sed -E 's/([0-9]+) passed, ([0-9]+) failed/\1 \2/')
 	passed=$((passed + ${vp:-0}))
 	failed=$((failed + ${vf:-1}))
 	[[ $vmstatus -eq 0 ]] || status=1
+	rm -f "$vmlog"
 fi
 if [[ "${skipped:-0}" -gt 0 ]]; then
 	echo "${passed:-0} passed, ${failed:-1} failed, ${skipped} skipped"
