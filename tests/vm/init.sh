@@ -63,7 +63,7 @@ for s in 0 1 2 4; do
 	pid=$!
 	sleep 1
 	# The first frames may predate the output stream: analyze a few and judge the last.
-	run c_$s infocus analyze "v4l2:$cap,input=2,format=YUYV,size=720x480" --frames 5 --grid 3x2
+	run c_$s infocus analyze "v4l2:$cap,input=2,format=YUYV,size=720x480" --frames 8 --grid 3x2
 	kill $pid
 	wait $pid 2>/dev/null
 done
