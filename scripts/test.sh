@@ -23,6 +23,8 @@ if [[ "${1:-}" == "--sanitize" ]]; then
 	opts+=(-Db_sanitize=address,undefined -Db_lundef=false -Dbuildtype=debugoptimized
 		-Dcpp_args=-Wno-maybe-uninitialized)
 	export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+	# Full stacks, so that leaks inside third-party libraries match tests/lsan.supp.
+	export LSAN_OPTIONS=suppressions=$here/tests/lsan.supp:fast_unwind_on_malloc=0:print_suppressions=0
 	export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 fi
 
