@@ -444,22 +444,10 @@ private:
         }
         if (inFlight_ == 0) {
             // The camera would starve: hand out a copy and requeue at once.
-            Frame copy;
-            if (mode_.format == PixelFormat::MJPEG) {
-                copy = makeCompressedFrame(f.format, f.size, f.planes[0].data, f.planes[0].size);
-            } else {
-                auto owned = allocateFrame(f.format, f.size, stride_);
-                if (!owned) return owned.error();
-                copy = std::move(*owned);
-                for (unsigned p = 0; p < f.numPlanes; ++p)
-                    std::memcpy(mutablePlane(copy, p), f.planes[p].data, f.planes[p].size);
-            }
-            copy.timestampNs = f.timestampNs;
-            copy.sequence = f.sequence;
-            copy.lens = f.lens;
-            copy.exposureS = f.exposureS;
+            auto copy = copyFrame(f);
+            if (!copy) return copy.error();
             if (Status s = queue(req); !s) return s.error();
-            return copy;
+            return *copy;
         }
         auto pool = pool_;
         f.storage = std::shared_ptr<const void>(planes[0], [pool, req](const void*) {

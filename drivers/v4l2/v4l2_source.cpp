@@ -347,22 +347,10 @@ private:
         }
         if (queued_ == 0) {
             // The driver would starve: hand out a copy and give the buffer straight back.
-            Frame copy = f;
-            if (mode_.format == PixelFormat::MJPEG) {
-                copy = makeCompressedFrame(f.format, f.size, f.planes[0].data, f.planes[0].size);
-            } else {
-                auto owned = allocateFrame(f.format, f.size, stride_);
-                if (!owned) return owned.error();
-                copy = *owned;
-                for (unsigned p = 0; p < f.numPlanes; ++p)
-                    std::memcpy(mutablePlane(copy, p), f.planes[p].data, f.planes[p].size);
-            }
-            copy.timestampNs = f.timestampNs;
-            copy.sequence = f.sequence;
-            copy.lens = f.lens;
-            copy.exposureS = f.exposureS;
+            auto copy = copyFrame(f);
+            if (!copy) return copy.error();
             if (Status s = queue(buf.index); !s) return s.error();
-            return copy;
+            return *copy;
         }
         auto pool = pool_;
         const unsigned index = buf.index;

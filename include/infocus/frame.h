@@ -109,6 +109,10 @@ Result<Frame> allocateFrame(PixelFormat format, Size size, size_t stride = 0);
 /// Wraps one compressed buffer (MJPEG) of @p bytes as a frame that owns a copy of it.
 Frame makeCompressedFrame(PixelFormat format, Size size, const uint8_t* bytes, size_t count);
 
+/// A deep copy of @p frame that owns its pixels (same format, size, first-plane stride and
+/// metadata), for a producer that must take its buffer back at once. Fails like allocateFrame.
+Result<Frame> copyFrame(const Frame& frame);
+
 /// Mutable access to a plane of a frame created by allocateFrame (which owns writable memory).
 inline uint8_t* mutablePlane(Frame& frame, unsigned index) {
     return const_cast<uint8_t*>(frame.planes[index].data);

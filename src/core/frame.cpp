@@ -161,6 +161,26 @@ Result<Frame> allocateFrame(PixelFormat format, Size size, size_t stride) {
     return f;
 }
 
+Result<Frame> copyFrame(const Frame& f) {
+    Frame copy;
+    if (f.format == PixelFormat::MJPEG) {
+        copy = makeCompressedFrame(f.format, f.size, f.planes[0].data, f.planes[0].size);
+    } else {
+        auto owned = allocateFrame(f.format, f.size, f.planes[0].stride);
+        if (!owned) return owned.error();
+        copy = std::move(*owned);
+        for (unsigned p = 0; p < f.numPlanes && p < copy.numPlanes; ++p)
+            std::memcpy(mutablePlane(copy, p), f.planes[p].data,
+                        std::min(f.planes[p].size, copy.planes[p].size));
+    }
+    copy.timestampNs = f.timestampNs;
+    copy.sequence = f.sequence;
+    copy.lens = f.lens;
+    copy.exposureS = f.exposureS;
+    copy.origin = f.origin;
+    return copy;
+}
+
 Frame makeCompressedFrame(PixelFormat format, Size size, const uint8_t* bytes, size_t count) {
     auto buffer = std::make_shared<std::vector<uint8_t>>(bytes, bytes + count);
     Frame f;

@@ -273,12 +273,22 @@ void tengSumsAvx2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG2
 
 }  // namespace
 
-double simdLapv(const Luma8& img, const Rect& region, double noiseSigma) {
+namespace {
+
+// The pixels of @p region whose 3×3 neighbourhood lies inside the image.
+Rect validArea(const Luma8& img, const Rect& region) {
     const int x0 = std::max(region.x, 1), y0 = std::max(region.y, 1);
     const int x1 = std::min(region.x + region.w, img.width - 1);
     const int y1 = std::min(region.y + region.h, img.height - 1);
-    if (x1 <= x0 || y1 <= y0) return 0.0;
-    const Rect a{x0, y0, x1 - x0, y1 - y0};
+    return {x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)};
+}
+
+}  // namespace
+
+double simdLapv(const Luma8& img, const Rect& region, double noiseSigma) {
+    const Rect a = validArea(img, region);
+    if (a.w == 0 || a.h == 0) return 0.0;
+    const int x0 = a.x, y0 = a.y, x1 = a.x + a.w, y1 = a.y + a.h;
     int64_t sumI = 0, sumL2 = 0;
     lapvSumsAvx2(img, a, sumI, sumL2);
     // Σ L telescopes: per column (top-outside − last + below-last − first), likewise per row.
@@ -293,11 +303,8 @@ double simdLapv(const Luma8& img, const Rect& region, double noiseSigma) {
 }
 
 double simdTeng(const Luma8& img, const Rect& region, double noiseSigma) {
-    const int x0 = std::max(region.x, 1), y0 = std::max(region.y, 1);
-    const int x1 = std::min(region.x + region.w, img.width - 1);
-    const int y1 = std::min(region.y + region.h, img.height - 1);
-    if (x1 <= x0 || y1 <= y0) return 0.0;
-    const Rect a{x0, y0, x1 - x0, y1 - y0};
+    const Rect a = validArea(img, region);
+    if (a.w == 0 || a.h == 0) return 0.0;
     int64_t sumI = 0, sumG2 = 0;
     tengSumsAvx2(img, a, sumI, sumG2);
     // Unscaled Sobel is 8× the gradient: divide the squares by 64.

@@ -296,3 +296,20 @@ TEST_CASE("damaged and unknown frames are errors, not crashes", "[luma]") {
     CHECK(u.error().kind == ErrorKind::Unsupported);
     CHECK(u.error().message.find("XYZW") != std::string::npos);
 }
+
+TEST_CASE("copyFrame owns an identical copy, metadata included", "[frame]") {
+    Frame f = planarFrame(PixelFormat::NV12, 34, 18, 48);
+    f.timestampNs = 123456789;
+    f.sequence = 42;
+    f.lens = LensPosition{1.5, "dioptre", 1.5};
+    auto c = copyFrame(f);
+    REQUIRE(c.ok());
+    CHECK(c->planes[0].data != f.planes[0].data);
+    CHECK(c->planes[0].stride == 48u);
+    CHECK(c->sequence == 42u);
+    CHECK(c->timestampNs == 123456789);
+    CHECK(c->lens == f.lens);
+    for (unsigned p = 0; p < f.numPlanes; ++p)
+        CHECK(std::memcmp(c->planes[p].data, f.planes[p].data, f.planes[p].size) == 0);
+    checkLuma8(*c, 34, 18);
+}
