@@ -66,93 +66,6 @@ inline void lapvStep(const uint8_t* u, const uint8_t* c, const uint8_t* d, int x
     l2 = _mm256_add_epi32(l2, _mm256_madd_epi16(lapHi, lapHi));
 }
 
-// Σ I and Σ (Gx² + Gy²) of the unscaled Sobel for 32 pixels, as two halves of 16 widened by
-// zero-extending loads: plain 16-bit adds and subtracts and one multiply (madd) per square, so
-// the multiply ports are not the bottleneck.
-template <bool Masked>
-inline void tengStep(const uint8_t* u, const uint8_t* c, const uint8_t* d, int x, __m256i mask,
-                     __m256i& g2, __m256i& si) {
-    const __m256i zero = _mm256_setzero_si256();
-    __m256i cm = load(c + x);
-    if constexpr (Masked) cm = _mm256_and_si256(cm, mask);
-    si = _mm256_add_epi64(si, _mm256_sad_epu8(cm, zero));
-    const auto w16 = [](const uint8_t* p) {
-        return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)));
-    };
-    for (int h = 0; h < 32; h += 16) {
-        const int o = x + h;
-        const __m256i ul = w16(u + o - 1), um = w16(u + o), ur = w16(u + o + 1);
-        const __m256i cl = w16(c + o - 1), cr = w16(c + o + 1);
-        const __m256i dl = w16(d + o - 1), dm = w16(d + o), dr = w16(d + o + 1);
-        const __m256i cd = _mm256_sub_epi16(cr, cl);
-        __m256i gx =
-            _mm256_add_epi16(_mm256_add_epi16(_mm256_sub_epi16(ur, ul), _mm256_sub_epi16(dr, dl)),
-                             _mm256_add_epi16(cd, cd));
-        const __m256i vd = _mm256_sub_epi16(dm, um);
-        __m256i gy =
-            _mm256_add_epi16(_mm256_add_epi16(_mm256_sub_epi16(dl, ul), _mm256_sub_epi16(dr, ur)),
-                             _mm256_add_epi16(vd, vd));
-        if constexpr (Masked) {
-            const __m256i m16 = _mm256_cvtepi8_epi16(h == 0 ? _mm256_castsi256_si128(mask)
-                                                            : _mm256_extracti128_si256(mask, 1));
-            gx = _mm256_and_si256(gx, m16);
-            gy = _mm256_and_si256(gy, m16);
-        }
-        g2 = _mm256_add_epi32(g2, _mm256_madd_epi16(gx, gx));
-        g2 = _mm256_add_epi32(g2, _mm256_madd_epi16(gy, gy));
-    }
-}
-
-// TENG for two rows at once (y and y+1 from rows r0 = y−1 … r3 = y+2) over 32 pixels: the Sobel
-// separates into per-row terms h = right − left and s = left + 2·middle + right, each computed
-// once and shared by both output rows (Gx = h0 + 2h1 + h2, Gy = s2 − s0, and one row down).
-template <bool Masked>
-inline void tengStep2(const uint8_t* r0, const uint8_t* r1, const uint8_t* r2, const uint8_t* r3,
-                      int x, __m256i mask, __m256i& g2, __m256i& si) {
-    const __m256i zero = _mm256_setzero_si256();
-    __m256i c1 = load(r1 + x), c2 = load(r2 + x);
-    if constexpr (Masked) {
-        c1 = _mm256_and_si256(c1, mask);
-        c2 = _mm256_and_si256(c2, mask);
-    }
-    si = _mm256_add_epi64(si,
-                          _mm256_add_epi64(_mm256_sad_epu8(c1, zero), _mm256_sad_epu8(c2, zero)));
-    const auto w16 = [](const uint8_t* p) {
-        return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)));
-    };
-    for (int hh = 0; hh < 32; hh += 16) {
-        const int o = x + hh;
-        __m256i h[4], sm[4];
-        const uint8_t* rows[4] = {r0, r1, r2, r3};
-        for (int k = 0; k < 4; ++k) {
-            const __m256i l = w16(rows[k] + o - 1), m = w16(rows[k] + o), r = w16(rows[k] + o + 1);
-            h[k] = _mm256_sub_epi16(r, l);
-            sm[k] = _mm256_add_epi16(_mm256_add_epi16(l, r), _mm256_add_epi16(m, m));
-        }
-        __m256i gxA = _mm256_add_epi16(_mm256_add_epi16(h[0], h[2]), _mm256_add_epi16(h[1], h[1]));
-        __m256i gxB = _mm256_add_epi16(_mm256_add_epi16(h[1], h[3]), _mm256_add_epi16(h[2], h[2]));
-        __m256i gyA = _mm256_sub_epi16(sm[2], sm[0]);
-        __m256i gyB = _mm256_sub_epi16(sm[3], sm[1]);
-        if constexpr (Masked) {
-            const __m256i m16 = _mm256_cvtepi8_epi16(hh == 0 ? _mm256_castsi256_si128(mask)
-                                                             : _mm256_extracti128_si256(mask, 1));
-            gxA = _mm256_and_si256(gxA, m16);
-            gxB = _mm256_and_si256(gxB, m16);
-            gyA = _mm256_and_si256(gyA, m16);
-            gyB = _mm256_and_si256(gyB, m16);
-        }
-        g2 = _mm256_add_epi32(
-            g2, _mm256_add_epi32(_mm256_madd_epi16(gxA, gxA), _mm256_madd_epi16(gyA, gyA)));
-        g2 = _mm256_add_epi32(
-            g2, _mm256_add_epi32(_mm256_madd_epi16(gxB, gxB), _mm256_madd_epi16(gyB, gyB)));
-    }
-}
-
-// TENG over @p a two rows at a time (half the loads and loop overhead of one row at a time); an
-// odd last row goes through the one-row step. Needs a.w ≥ 32. A lane gains at most 16·1020² per
-// two-row window: widen every 64 windows.
-void tengSums2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumSq);
-
 // Runs Step over every valid pixel of @p a: whole 32-pixel windows, then one overlapping masked
 // window for the rest of a row. Needs a.w ≥ 32. The i32 sums are widened to i64 every 128
 // windows: a lane gains at most 8·1020² per window, so it cannot overflow before.
@@ -224,51 +137,137 @@ void lapvSumsAvx2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumL2
     sums<lapvStep<false>, lapvStep<true>>(img, a, sumI, sumL2);
 }
 
-void tengSums2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumSq) {
-    __m256i acc32 = _mm256_setzero_si256(), acc64 = _mm256_setzero_si256();
-    __m256i si = _mm256_setzero_si256();
-    const int end = a.x + a.w;
-    const int full = a.w / 32 * 32;
-    const __m256i mask = tailMask(32 - (a.w - full));
-    int windows = 0;
-    int y = a.y;
-    for (; y + 1 < a.y + a.h; y += 2) {
-        const uint8_t* r0 = img.row(y - 1);
-        const uint8_t* r1 = img.row(y);
-        const uint8_t* r2 = img.row(y + 1);
-        const uint8_t* r3 = img.row(y + 2);
-        // A region is a narrow column of the frame: the hardware prefetcher does not see the
-        // stride, so fetch a few rows ahead ourselves.
-        for (int k = 3; k <= 4; ++k) {
-            if (y + k >= img.height) break;
-            const uint8_t* next = img.row(y + k);
-            for (int x = a.x - 1; x < end + 1; x += 64)
-                _mm_prefetch(reinterpret_cast<const char*>(next + x), _MM_HINT_T0);
-        }
-        for (int x = a.x; x < a.x + full; x += 32)
-            tengStep2<false>(r0, r1, r2, r3, x, mask, acc32, si);
-        if (full < a.w) tengStep2<true>(r0, r1, r2, r3, end - 32, mask, acc32, si);
-        windows += a.w / 32 + 1;
-        if (windows >= 64) {
+// The Sobel separates into per-row terms h = right − left and s = left + 2·middle + right:
+// Gx = h(y−1) + 2·h(y) + h(y+1) and Gy = s(y+1) − s(y−1). The TENG kernel walks down vertical
+// strips of a region keeping the terms of the rows above in registers, so each image row of a
+// strip is loaded and split once, not three times. A region of a grid fits in L1, so the later
+// strips of a region read what the first one brought in.
+
+// Per-row terms of 32 pixels at x in an even/odd layout: 16-bit lane i of the "e" vectors holds
+// pixel x + 2i, of the "o" vectors pixel x + 2i + 1. Three plain loads give both: the low byte of
+// a 16-bit lane of the load at x − 1 is the left neighbour of pixel x + 2i, its high byte the
+// pixel itself, and so on; one multiply-add with weights (1, 2) forms left + 2·middle.
+struct RowTerms32 {
+    __m256i he, ho, se, so, centre;
+};
+
+inline RowTerms32 rowTerms32(const uint8_t* p, int x) {
+    const __m256i lowByte = _mm256_set1_epi16(0x00ff);
+    const __m256i w12 = _mm256_set1_epi16(0x0201);  // byte weights 1 (low), 2 (high)
+    const __m256i a = load(p + x - 1), c = load(p + x), b = load(p + x + 1);
+    const __m256i ae = _mm256_and_si256(a, lowByte), ce = _mm256_and_si256(c, lowByte);
+    const __m256i be = _mm256_and_si256(b, lowByte), bo = _mm256_srli_epi16(b, 8);
+    return {_mm256_sub_epi16(be, ae), _mm256_sub_epi16(bo, ce),
+            _mm256_add_epi16(_mm256_maddubs_epi16(a, w12), be),
+            _mm256_add_epi16(_mm256_maddubs_epi16(c, w12), bo), c};
+}
+
+// Σ I and Σ (Gx² + Gy²) of the unscaled Sobel over columns x … x+31 of rows y0 … y1−1. A lane of
+// the i32 sum gains at most 8·1020² per row: widened to i64 every 128 rows, before it can
+// overflow.
+void tengStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256i& si) {
+    const __m256i zero = _mm256_setzero_si256();
+    const RowTerms32 r0 = rowTerms32(img.row(y0 - 1), x);
+    RowTerms32 r1 = rowTerms32(img.row(y0), x);
+    __m256i se0 = r0.se, so0 = r0.so;
+    __m256i te = _mm256_add_epi16(r0.he, r1.he), to = _mm256_add_epi16(r0.ho, r1.ho);
+    __m256i acc32 = zero;
+    int rows = 0;
+    for (int y = y0; y < y1; ++y) {
+        const RowTerms32 r2 = rowTerms32(img.row(y + 1), x);
+        si = _mm256_add_epi64(si, _mm256_sad_epu8(r1.centre, zero));
+        const __m256i te2 = _mm256_add_epi16(r1.he, r2.he), to2 = _mm256_add_epi16(r1.ho, r2.ho);
+        const __m256i gxe = _mm256_add_epi16(te, te2), gxo = _mm256_add_epi16(to, to2);
+        const __m256i gye = _mm256_sub_epi16(r2.se, se0), gyo = _mm256_sub_epi16(r2.so, so0);
+        acc32 = _mm256_add_epi32(
+            acc32, _mm256_add_epi32(_mm256_madd_epi16(gxe, gxe), _mm256_madd_epi16(gye, gye)));
+        acc32 = _mm256_add_epi32(
+            acc32, _mm256_add_epi32(_mm256_madd_epi16(gxo, gxo), _mm256_madd_epi16(gyo, gyo)));
+        se0 = r1.se, so0 = r1.so;
+        te = te2, to = to2;
+        r1 = r2;
+        if (++rows == 128) {
             acc64 = widenAdd(acc64, acc32);
-            acc32 = _mm256_setzero_si256();
-            windows = 0;
+            acc32 = zero;
+            rows = 0;
         }
-    }
-    if (y < a.y + a.h) {  // the odd last row
-        const uint8_t *u = img.row(y - 1), *c = img.row(y), *d = img.row(y + 1);
-        for (int x = a.x; x < a.x + full; x += 32)
-            tengStep<false>(u, c, d, x, mask, acc32, si);
-        if (full < a.w) tengStep<true>(u, c, d, end - 32, mask, acc32, si);
     }
     acc64 = widenAdd(acc64, acc32);
-    sumI = sum64(si);
-    sumSq = sum64(acc64);
+}
+
+// The same for 16 columns at x, in natural order (16-bit lane i is pixel x + i); with Masked the
+// pixels before x + skip are left out (the overlapping last strip of a region).
+template <bool Masked>
+void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc64, __m128i& si) {
+    const auto w16 = [](const uint8_t* p) {
+        return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)));
+    };
+    const auto terms = [&](const uint8_t* p, __m256i& h, __m256i& s) {
+        const __m256i l = w16(p + x - 1), m = w16(p + x), r = w16(p + x + 1);
+        h = _mm256_sub_epi16(r, l);
+        s = _mm256_add_epi16(_mm256_add_epi16(l, r), _mm256_add_epi16(m, m));
+    };
+    const __m128i mask8 = _mm256_castsi256_si128(tailMask(skip));
+    const __m256i mask16 = _mm256_cvtepi8_epi16(mask8);
+    __m256i h0, s0, h1, s1;
+    terms(img.row(y0 - 1), h0, s0);
+    terms(img.row(y0), h1, s1);
+    __m256i t = _mm256_add_epi16(h0, h1);
+    __m256i acc32 = _mm256_setzero_si256();
+    int rows = 0;
+    for (int y = y0; y < y1; ++y) {
+        __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(img.row(y) + x));
+        if constexpr (Masked) c = _mm_and_si128(c, mask8);
+        si = _mm_add_epi64(si, _mm_sad_epu8(c, _mm_setzero_si128()));
+        __m256i h2, s2;
+        terms(img.row(y + 1), h2, s2);
+        const __m256i t2 = _mm256_add_epi16(h1, h2);
+        __m256i gx = _mm256_add_epi16(t, t2), gy = _mm256_sub_epi16(s2, s0);
+        if constexpr (Masked) {
+            gx = _mm256_and_si256(gx, mask16);
+            gy = _mm256_and_si256(gy, mask16);
+        }
+        acc32 = _mm256_add_epi32(
+            acc32, _mm256_add_epi32(_mm256_madd_epi16(gx, gx), _mm256_madd_epi16(gy, gy)));
+        s0 = s1, s1 = s2, h1 = h2, t = t2;
+        if (++rows == 128) {
+            acc64 = widenAdd(acc64, acc32);
+            acc32 = _mm256_setzero_si256();
+            rows = 0;
+        }
+    }
+    acc64 = widenAdd(acc64, acc32);
+}
+
+constexpr int kL1Bytes = 32 * 1024;
+
+// TENG sums over @p a (a.w ≥ 16): 32-column strips, then 16-column strips, then one overlapping
+// masked 16-column strip for the rest, so at most 15 columns per row are computed twice.
+void tengStrips(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG2) {
+    __m256i acc64 = _mm256_setzero_si256(), si = _mm256_setzero_si256();
+    __m128i si16 = _mm_setzero_si128();
+    const int end = a.x + a.w;
+    // A large region goes in bands of rows whose pixels fit in L1 (32 KiB), so that the later
+    // strips of a band find it there; each band costs two extra rows of terms per strip.
+    const int band = std::max(32, kL1Bytes / 2 / (a.w + 2));
+    for (int y0 = a.y; y0 < a.y + a.h; y0 += band) {
+        const int y1 = std::min(a.y + a.h, y0 + band);
+        int x = a.x;
+        for (; x + 32 <= end; x += 32)
+            tengStrip32(img, x, y0, y1, acc64, si);
+        for (; x + 16 <= end; x += 16)
+            tengStrip16<false>(img, x, y0, y1, 0, acc64, si16);
+        if (x < end) tengStrip16<true>(img, end - 16, y0, y1, 16 - (end - x), acc64, si16);
+    }
+    alignas(16) int64_t s16[2];
+    _mm_store_si128(reinterpret_cast<__m128i*>(s16), si16);
+    sumI = sum64(si) + s16[0] + s16[1];
+    sumG2 = sum64(acc64);
 }
 
 void tengSumsAvx2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG2) {
-    if (a.w < 32) return tengScalar(img, a, sumI, sumG2);
-    tengSums2(img, a, sumI, sumG2);
+    if (a.w < 16) return tengScalar(img, a, sumI, sumG2);
+    tengStrips(img, a, sumI, sumG2);
 }
 
 }  // namespace

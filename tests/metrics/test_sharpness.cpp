@@ -213,6 +213,9 @@ TEST_CASE("the AVX2 kernels equal the reference implementation", "[sharpness][si
         regions.push_back({0, 0, img.cols, img.rows});  // touches every border
         regions.push_back({3, 5, 37, 2});               // narrower than a vector
         regions.push_back({img.cols - 50, 0, 80, 30});  // partly outside
+        // Every strip combination: 32 + 16, 16 + masked 16, masked 16 alone, below 16 columns.
+        for (int w : {48, 20, 17, 15})
+            regions.push_back({101, 7, w, 300});
         for (auto [op, noiseSigma] :
              {std::pair{FocusOperator::Lapv, 0.0}, std::pair{FocusOperator::Lapv, 1.5},
               std::pair{FocusOperator::Teng, 0.0}, std::pair{FocusOperator::Teng, 1.5}}) {
