@@ -93,27 +93,39 @@ bool haveAvx2() {
     return have;
 }
 
-double lapvFromSums(double n, double sumI, double sumL, double sumL2, double s, double nv) {
-    const double mu = sumI / n;
-    if (mu <= 0) return 0.0;
-    // White noise through the kernel (1,1,1,1,−4): variance 20σ².
-    const double var = sumL2 / n - (sumL / n) * (sumL / n) - 20.0 * nv;
-    return std::max(0.0, var) * s * s * s * s / (mu * mu);
-}
-
-double tengFromSums(double n, double sumI, double sumG2, double s, double nv) {
-    const double mu = sumI / n;
-    if (mu <= 0) return 0.0;
-    // Sobel/8 per axis: Σ w² = 12/64, so white noise adds 0.375σ² to |∇I|².
-    return std::max(0.0, sumG2 / n - 0.375 * nv) * s * s / (mu * mu);
+double scoreFromSums(FocusOperator op, const OperatorSums& sums, double s, double nv) {
+    const double n = sums.n;
+    const double mu = sums.sumI / n;
+    if (n <= 0 || mu <= 0) return 0.0;
+    const double mu2 = mu * mu;
+    const double meanA = sums.sumA / n, meanA2 = sums.sumA2 / n;
+    switch (op) {
+        case FocusOperator::Lapv:
+            // White noise through the kernel (1,1,1,1,−4): variance 20σ².
+            return std::max(0.0, meanA2 - meanA * meanA - 20.0 * nv) * s * s * s * s / mu2;
+        case FocusOperator::Lapm:
+            return meanA * s * s / mu;
+        case FocusOperator::Teng:
+            // Sobel/8 per axis: Σ w² = 12/64, so white noise adds 0.375σ² to |∇I|².
+            return std::max(0.0, meanA - 0.375 * nv) * s * s / mu2;
+        case FocusOperator::Tenv:
+            return std::max(0.0, meanA2 - meanA * meanA) * s * s * s * s / (mu2 * mu2);
+        case FocusOperator::Brenner:
+            // Each squared difference of two noisy pixels carries 2σ².
+            return std::max(0.0, meanA - 4.0 * nv) * s * s / mu2;
+        case FocusOperator::Glvn:
+            return std::max(0.0, meanA2 - mu2 - nv) / mu2;
+        case FocusOperator::Dctr:
+            break;
+    }
+    return 0.0;
 }
 
 double genericSharpness(const Luma8& img, const Rect& region, FocusOperator op, double noiseSigma) {
     const Rect a = validArea(img, region, margin(op));
     if (a.w <= 0 || a.h <= 0) return 0.0;
-    const double n = static_cast<double>(a.w) * a.h;
     const double nv = noiseSigma * noiseSigma;
-    const double s = scaleOf(img);
+    if (op == FocusOperator::Dctr) return dctRatio(img, a, nv);
     double sumI = 0, sumA = 0, sumA2 = 0;
     for (int y = a.y; y < a.y + a.h; ++y) {
         const uint8_t* c = img.row(y);
@@ -159,29 +171,8 @@ double genericSharpness(const Luma8& img, const Rect& region, FocusOperator op, 
             }
         }
     }
-    const double mu = sumI / n;
-    if (mu <= 0) return 0.0;
-    const double mu2 = mu * mu;
-    switch (op) {
-        case FocusOperator::Lapv:
-            return lapvFromSums(n, sumI, sumA, sumA2, s, nv);
-        case FocusOperator::Lapm:
-            return sumA / n * s * s / mu;
-        case FocusOperator::Teng:
-            return tengFromSums(n, sumI, sumA, s, nv);
-        case FocusOperator::Tenv: {
-            const double var = sumA2 / n - (sumA / n) * (sumA / n);
-            return std::max(0.0, var) * s * s * s * s / (mu2 * mu2);
-        }
-        case FocusOperator::Brenner:
-            // Each squared difference of two noisy pixels carries 2σ².
-            return std::max(0.0, sumA / n - 4.0 * nv) * s * s / mu2;
-        case FocusOperator::Glvn:
-            return std::max(0.0, sumA2 / n - mu2 - nv) / mu2;
-        case FocusOperator::Dctr:
-            return dctRatio(img, a, nv);
-    }
-    return 0.0;
+    const OperatorSums sums{static_cast<double>(a.w) * a.h, sumI, sumA, sumA2};
+    return scoreFromSums(op, sums, scaleOf(img), nv);
 }
 
 }  // namespace detail
@@ -226,11 +217,13 @@ std::vector<Rect> gridRegions(int width, int height, int cols, int rows) {
 
 double regionSharpness(const Luma8& luma, const Rect& region, const SharpnessParams& params) {
     // The one place that picks a vectorised kernel.
-    if (params.simd && detail::haveAvx2()) {
-        if (params.op == FocusOperator::Lapv)
-            return detail::simdLapv(luma, region, params.noiseSigma);
-        if (params.op == FocusOperator::Teng)
-            return detail::simdTeng(luma, region, params.noiseSigma);
+    if (params.simd && detail::haveAvx2() && params.op != FocusOperator::Dctr) {
+        const Rect a = validArea(luma, region, margin(params.op));
+        if (a.w <= 0 || a.h <= 0) return 0.0;
+        detail::OperatorSums sums;
+        if (detail::simdSums(luma, a, params.op, sums))
+            return detail::scoreFromSums(params.op, sums, scaleOf(luma),
+                                         params.noiseSigma * params.noiseSigma);
     }
     return detail::genericSharpness(luma, region, params.op, params.noiseSigma);
 }
@@ -245,8 +238,7 @@ void sharpness(const Luma8& luma, std::span<const Rect> regions, const Sharpness
     // Threads pay off only when a frame's work (≈0.1 ns/px for LAPV) dwarfs a thread start
     // (≈30 µs): above 4 Mpx for the vectorised kernel, 1 Mpx for the others.
     const double px = static_cast<double>(luma.width) * luma.height;
-    const bool fast =
-        params.simd && (params.op == FocusOperator::Lapv || params.op == FocusOperator::Teng);
+    const bool fast = params.simd && params.op != FocusOperator::Dctr && detail::haveAvx2();
     const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
     if (hw < 2 || n < 2 || px < (fast ? 4e6 : 1e6)) {
         work(0, n);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Vectorised LAPV and TENG: one pass over the pixels with AVX2. For LAPV, Σ L comes from the
-// region's border alone because the Laplacian's sum telescopes. This file alone is compiled with
+// Vectorised sums of the pixel operators (LAPV, LAPM, TENG, TENV, Brenner, GLVN): one pass over
+// the pixels with AVX2, exact integer arithmetic. For LAPV, Σ L comes from the region's border
+// alone because the Laplacian's sum telescopes. This file alone is compiled with
 // -mavx2; sharpness.cpp calls it only after a run-time CPU check.
 #include <immintrin.h>
 
@@ -118,20 +119,6 @@ void lapvScalar(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumL2) 
     }
 }
 
-void tengScalar(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG2) {
-    sumI = sumG2 = 0;
-    for (int y = a.y; y < a.y + a.h; ++y) {
-        const uint8_t *c = img.row(y), *u = img.row(y - 1), *d = img.row(y + 1);
-        for (int x = a.x; x < a.x + a.w; ++x) {
-            const int gx =
-                (u[x + 1] - u[x - 1]) + 2 * (c[x + 1] - c[x - 1]) + (d[x + 1] - d[x - 1]);
-            const int gy = (d[x - 1] - u[x - 1]) + 2 * (d[x] - u[x]) + (d[x + 1] - u[x + 1]);
-            sumG2 += gx * gx + gy * gy;
-            sumI += c[x];
-        }
-    }
-}
-
 void lapvSumsAvx2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumL2) {
     if (a.w < 32) return lapvScalar(img, a, sumI, sumL2);
     sums<lapvStep<false>, lapvStep<true>>(img, a, sumI, sumL2);
@@ -162,10 +149,34 @@ inline RowTerms32 rowTerms32(const uint8_t* p, int x) {
             _mm256_add_epi16(_mm256_maddubs_epi16(c, w12), bo), c};
 }
 
-// Σ I and Σ (Gx² + Gy²) of the unscaled Sobel over columns x … x+31 of rows y0 … y1−1. A lane of
-// the i32 sum gains at most 8·1020² per row: widened to i64 every 128 rows, before it can
-// overflow.
-void tengStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256i& si) {
+// Adds the squares of the 8 u32 lanes of @p g to the 4 u64 lanes of @p acc (exact: g < 2^32).
+inline __m256i addSquares64(__m256i acc, __m256i g) {
+    const __m256i hi = _mm256_srli_epi64(g, 32);
+    return _mm256_add_epi64(acc,
+                            _mm256_add_epi64(_mm256_mul_epu32(g, g), _mm256_mul_epu32(hi, hi)));
+}
+
+// Accumulates one row of Sobel components: Σ (Gx² + Gy²) into @p acc32, and with Variance also
+// Σ (Gx² + Gy²)² into @p sq64 (per pixel G from interleaved (Gx, Gy) pairs).
+template <bool Variance>
+inline void addGradient(__m256i gx, __m256i gy, __m256i& acc32, __m256i& sq64) {
+    if constexpr (Variance) {
+        const __m256i lo = _mm256_unpacklo_epi16(gx, gy), hi = _mm256_unpackhi_epi16(gx, gy);
+        const __m256i gLo = _mm256_madd_epi16(lo, lo), gHi = _mm256_madd_epi16(hi, hi);
+        acc32 = _mm256_add_epi32(acc32, _mm256_add_epi32(gLo, gHi));
+        sq64 = addSquares64(addSquares64(sq64, gLo), gHi);
+    } else {
+        acc32 = _mm256_add_epi32(
+            acc32, _mm256_add_epi32(_mm256_madd_epi16(gx, gx), _mm256_madd_epi16(gy, gy)));
+    }
+}
+
+// Σ I and Σ (Gx² + Gy²) of the unscaled Sobel over columns x … x+31 of rows y0 … y1−1 (with
+// Variance also Σ (Gx² + Gy²)²). A lane of the i32 sum gains at most 8·1020² per row: widened to
+// i64 every 128 rows, before it can overflow.
+template <bool Variance>
+void tengStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256i& sq64,
+                 __m256i& si) {
     const __m256i zero = _mm256_setzero_si256();
     const RowTerms32 r0 = rowTerms32(img.row(y0 - 1), x);
     RowTerms32 r1 = rowTerms32(img.row(y0), x);
@@ -177,12 +188,8 @@ void tengStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256
         const RowTerms32 r2 = rowTerms32(img.row(y + 1), x);
         si = _mm256_add_epi64(si, _mm256_sad_epu8(r1.centre, zero));
         const __m256i te2 = _mm256_add_epi16(r1.he, r2.he), to2 = _mm256_add_epi16(r1.ho, r2.ho);
-        const __m256i gxe = _mm256_add_epi16(te, te2), gxo = _mm256_add_epi16(to, to2);
-        const __m256i gye = _mm256_sub_epi16(r2.se, se0), gyo = _mm256_sub_epi16(r2.so, so0);
-        acc32 = _mm256_add_epi32(
-            acc32, _mm256_add_epi32(_mm256_madd_epi16(gxe, gxe), _mm256_madd_epi16(gye, gye)));
-        acc32 = _mm256_add_epi32(
-            acc32, _mm256_add_epi32(_mm256_madd_epi16(gxo, gxo), _mm256_madd_epi16(gyo, gyo)));
+        addGradient<Variance>(_mm256_add_epi16(te, te2), _mm256_sub_epi16(r2.se, se0), acc32, sq64);
+        addGradient<Variance>(_mm256_add_epi16(to, to2), _mm256_sub_epi16(r2.so, so0), acc32, sq64);
         se0 = r1.se, so0 = r1.so;
         te = te2, to = to2;
         r1 = r2;
@@ -195,15 +202,17 @@ void tengStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256
     acc64 = widenAdd(acc64, acc32);
 }
 
+inline __m256i load16(const uint8_t* p) {
+    return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)));
+}
+
 // The same for 16 columns at x, in natural order (16-bit lane i is pixel x + i); with Masked the
 // pixels before x + skip are left out (the overlapping last strip of a region).
-template <bool Masked>
-void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc64, __m128i& si) {
-    const auto w16 = [](const uint8_t* p) {
-        return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)));
-    };
+template <bool Variance, bool Masked>
+void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc64, __m256i& sq64,
+                 __m128i& si) {
     const auto terms = [&](const uint8_t* p, __m256i& h, __m256i& s) {
-        const __m256i l = w16(p + x - 1), m = w16(p + x), r = w16(p + x + 1);
+        const __m256i l = load16(p + x - 1), m = load16(p + x), r = load16(p + x + 1);
         h = _mm256_sub_epi16(r, l);
         s = _mm256_add_epi16(_mm256_add_epi16(l, r), _mm256_add_epi16(m, m));
     };
@@ -227,8 +236,7 @@ void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc
             gx = _mm256_and_si256(gx, mask16);
             gy = _mm256_and_si256(gy, mask16);
         }
-        acc32 = _mm256_add_epi32(
-            acc32, _mm256_add_epi32(_mm256_madd_epi16(gx, gx), _mm256_madd_epi16(gy, gy)));
+        addGradient<Variance>(gx, gy, acc32, sq64);
         s0 = s1, s1 = s2, h1 = h2, t = t2;
         if (++rows == 128) {
             acc64 = widenAdd(acc64, acc32);
@@ -239,77 +247,241 @@ void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc
     acc64 = widenAdd(acc64, acc32);
 }
 
+// The pixel-local operators walked down 16-column strips in natural order: LAPM
+// (|2c − l − r| + |2c − u − d|), Brenner ((c[x+2] − c)² + (c[y+2] − c)²) and GLVN (c²). Each
+// keeps the centre values of the rows it needs again in registers. A lane of the i32 sum gains
+// at most 4·255² per row: widened every 128 rows.
+enum class LocalOp { Lapm, Brenner, Glvn };
+
+template <LocalOp Op, bool Masked>
+void localStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc64, __m128i& si) {
+    const __m128i mask8 = _mm256_castsi256_si128(tailMask(skip));
+    const __m256i mask16 = _mm256_cvtepi8_epi16(mask8);
+    const __m256i ones = _mm256_set1_epi16(1);
+    __m256i acc32 = _mm256_setzero_si256();
+    // Centre values of rows y − 1 (LAPM), y and y + 1.
+    __m256i mPrev = Op == LocalOp::Lapm ? load16(img.row(y0 - 1) + x) : ones;
+    __m256i mCur = load16(img.row(y0) + x);
+    __m256i mNext = Op == LocalOp::Glvn ? ones : load16(img.row(y0 + 1) + x);
+    int rows = 0;
+    for (int y = y0; y < y1; ++y) {
+        __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(img.row(y) + x));
+        if constexpr (Masked) c = _mm_and_si128(c, mask8);
+        si = _mm_add_epi64(si, _mm_sad_epu8(c, _mm_setzero_si128()));
+        __m256i v;
+        if constexpr (Op == LocalOp::Glvn) {
+            v = _mm256_cvtepu8_epi16(c);
+            acc32 = _mm256_add_epi32(acc32, _mm256_madd_epi16(v, v));
+        } else if constexpr (Op == LocalOp::Lapm) {
+            const uint8_t* p = img.row(y) + x;
+            const __m256i c2 = _mm256_add_epi16(mCur, mCur);
+            const __m256i mBelow = load16(img.row(y + 1) + x);
+            const __m256i h = _mm256_sub_epi16(c2, _mm256_add_epi16(load16(p - 1), load16(p + 1)));
+            const __m256i w = _mm256_sub_epi16(c2, _mm256_add_epi16(mPrev, mBelow));
+            v = _mm256_add_epi16(_mm256_abs_epi16(h), _mm256_abs_epi16(w));
+            if constexpr (Masked) v = _mm256_and_si256(v, mask16);
+            acc32 = _mm256_add_epi32(acc32, _mm256_madd_epi16(v, ones));
+            mPrev = mCur, mCur = mBelow;
+        } else {
+            const __m256i mTwoBelow = load16(img.row(y + 2) + x);
+            __m256i h = _mm256_sub_epi16(load16(img.row(y) + x + 2), mCur);
+            __m256i w = _mm256_sub_epi16(mTwoBelow, mCur);
+            if constexpr (Masked) {
+                h = _mm256_and_si256(h, mask16);
+                w = _mm256_and_si256(w, mask16);
+            }
+            acc32 = _mm256_add_epi32(
+                acc32, _mm256_add_epi32(_mm256_madd_epi16(h, h), _mm256_madd_epi16(w, w)));
+            mCur = mNext, mNext = mTwoBelow;
+        }
+        if (++rows == 128) {
+            acc64 = widenAdd(acc64, acc32);
+            acc32 = _mm256_setzero_si256();
+            rows = 0;
+        }
+    }
+    acc64 = widenAdd(acc64, acc32);
+}
+
+// LAPM and Brenner over columns x … x+31 in the even/odd layout of rowTerms32: the centre row
+// values of pixels x + 2i and x + 2i + 1 are the low and high bytes of the 16-bit lanes of one
+// plain load, so the rows kept for the vertical terms cost two operations each. Widened like
+// localStrip16.
+template <LocalOp Op>
+void localStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256i& si) {
+    const __m256i zero = _mm256_setzero_si256(), ones = _mm256_set1_epi16(1);
+    const __m256i lowByte = _mm256_set1_epi16(0x00ff);
+    const auto evenOf = [&](__m256i v) { return _mm256_and_si256(v, lowByte); };
+    const auto oddOf = [](__m256i v) { return _mm256_srli_epi16(v, 8); };
+    // Raw centre bytes of row y (for Σ I) and the even/odd values of rows y − 1 (LAPM), y, y + 1.
+    __m256i cCur = load(img.row(y0) + x);
+    __m256i ePrev = zero, oPrev = zero, eNext = zero, oNext = zero;
+    if constexpr (Op == LocalOp::Lapm) {
+        const __m256i p = load(img.row(y0 - 1) + x);
+        ePrev = evenOf(p), oPrev = oddOf(p);
+    } else {
+        const __m256i n = load(img.row(y0 + 1) + x);
+        eNext = evenOf(n), oNext = oddOf(n);
+    }
+    __m256i eCur = evenOf(cCur), oCur = oddOf(cCur);
+    __m256i acc32 = zero;
+    int rows = 0;
+    for (int y = y0; y < y1; ++y) {
+        si = _mm256_add_epi64(si, _mm256_sad_epu8(cCur, zero));
+        const uint8_t* p = img.row(y) + x;
+        if constexpr (Op == LocalOp::Lapm) {
+            const __m256i cBelow = load(img.row(y + 1) + x);
+            const __m256i eBelow = evenOf(cBelow), oBelow = oddOf(cBelow);
+            // Left of an even pixel: low byte at x − 1; right of an odd one: high byte at x + 1.
+            const __m256i leftE = evenOf(load(p - 1)), rightO = oddOf(load(p + 1));
+            const __m256i e2 = _mm256_add_epi16(eCur, eCur), o2 = _mm256_add_epi16(oCur, oCur);
+            const __m256i hE = _mm256_sub_epi16(e2, _mm256_add_epi16(leftE, oCur));
+            const __m256i hO = _mm256_sub_epi16(o2, _mm256_add_epi16(eCur, rightO));
+            const __m256i vE = _mm256_sub_epi16(e2, _mm256_add_epi16(ePrev, eBelow));
+            const __m256i vO = _mm256_sub_epi16(o2, _mm256_add_epi16(oPrev, oBelow));
+            const __m256i sum =
+                _mm256_add_epi16(_mm256_add_epi16(_mm256_abs_epi16(hE), _mm256_abs_epi16(hO)),
+                                 _mm256_add_epi16(_mm256_abs_epi16(vE), _mm256_abs_epi16(vO)));
+            acc32 = _mm256_add_epi32(acc32, _mm256_madd_epi16(sum, ones));
+            ePrev = eCur, oPrev = oCur, eCur = eBelow, oCur = oBelow, cCur = cBelow;
+        } else {
+            const __m256i cTwoBelow = load(img.row(y + 2) + x);
+            const __m256i eTwo = evenOf(cTwoBelow), oTwo = oddOf(cTwoBelow);
+            const __m256i right2 = load(p + 2);
+            const __m256i hE = _mm256_sub_epi16(evenOf(right2), eCur);
+            const __m256i hO = _mm256_sub_epi16(oddOf(right2), oCur);
+            const __m256i vE = _mm256_sub_epi16(eTwo, eCur), vO = _mm256_sub_epi16(oTwo, oCur);
+            acc32 = _mm256_add_epi32(
+                acc32, _mm256_add_epi32(_mm256_madd_epi16(hE, hE), _mm256_madd_epi16(hO, hO)));
+            acc32 = _mm256_add_epi32(
+                acc32, _mm256_add_epi32(_mm256_madd_epi16(vE, vE), _mm256_madd_epi16(vO, vO)));
+            cCur = load(img.row(y + 1) + x);
+            eCur = eNext, oCur = oNext, eNext = eTwo, oNext = oTwo;
+        }
+        if (++rows == 128) {
+            acc64 = widenAdd(acc64, acc32);
+            acc32 = zero;
+            rows = 0;
+        }
+    }
+    acc64 = widenAdd(acc64, acc32);
+}
+
 constexpr int kL1Bytes = 32 * 1024;
 
-// TENG sums over @p a (a.w ≥ 16): 32-column strips, then 16-column strips, then one overlapping
-// masked 16-column strip for the rest, so at most 15 columns per row are computed twice.
-void tengStrips(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG2) {
-    __m256i acc64 = _mm256_setzero_si256(), si = _mm256_setzero_si256();
-    __m128i si16 = _mm_setzero_si128();
+// Runs the strips of one operator over @p a (a.w ≥ 16) in bands of rows whose pixels fit in L1
+// (32 KiB), so that the later strips of a band find them there (each band costs a row or two of
+// extra terms per strip): 32-column strips where @p Strip32 is given, then 16-column ones, then
+// one overlapping masked 16-column strip, so at most 15 columns per row are computed twice.
+template <typename S32, typename S16>
+void runStrips(const Rect& a, S32&& strip32, S16&& strip16) {
     const int end = a.x + a.w;
-    // A large region goes in bands of rows whose pixels fit in L1 (32 KiB), so that the later
-    // strips of a band find it there; each band costs two extra rows of terms per strip.
     const int band = std::max(32, kL1Bytes / 2 / (a.w + 2));
     for (int y0 = a.y; y0 < a.y + a.h; y0 += band) {
         const int y1 = std::min(a.y + a.h, y0 + band);
         int x = a.x;
-        for (; x + 32 <= end; x += 32)
-            tengStrip32(img, x, y0, y1, acc64, si);
+        for (; x + 32 <= end && strip32(x, y0, y1); x += 32) {
+        }
         for (; x + 16 <= end; x += 16)
-            tengStrip16<false>(img, x, y0, y1, 0, acc64, si16);
-        if (x < end) tengStrip16<true>(img, end - 16, y0, y1, 16 - (end - x), acc64, si16);
+            strip16(x, y0, y1, 0);
+        if (x < end) strip16(end - 16, y0, y1, 16 - (end - x));
     }
+}
+
+int64_t total(__m256i v, __m128i v16) {
     alignas(16) int64_t s16[2];
-    _mm_store_si128(reinterpret_cast<__m128i*>(s16), si16);
-    sumI = sum64(si) + s16[0] + s16[1];
-    sumG2 = sum64(acc64);
+    _mm_store_si128(reinterpret_cast<__m128i*>(s16), v16);
+    return sum64(v) + s16[0] + s16[1];
 }
 
-void tengSumsAvx2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG2) {
-    if (a.w < 16) return tengScalar(img, a, sumI, sumG2);
-    tengStrips(img, a, sumI, sumG2);
+template <bool Variance>
+void tengStrips(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG, int64_t& sumG2) {
+    __m256i acc64 = _mm256_setzero_si256(), sq64 = acc64, si = acc64;
+    __m128i si16 = _mm_setzero_si128();
+    runStrips(
+        a,
+        [&](int x, int y0, int y1) {
+            tengStrip32<Variance>(img, x, y0, y1, acc64, sq64, si);
+            return true;
+        },
+        [&](int x, int y0, int y1, int skip) {
+            if (skip)
+                tengStrip16<Variance, true>(img, x, y0, y1, skip, acc64, sq64, si16);
+            else
+                tengStrip16<Variance, false>(img, x, y0, y1, 0, acc64, sq64, si16);
+        });
+    sumI = total(si, si16);
+    sumG = sum64(acc64);
+    sumG2 = sum64(sq64);
+}
+
+template <LocalOp Op>
+void localStrips(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumA) {
+    __m256i acc64 = _mm256_setzero_si256(), si = acc64;
+    __m128i si16 = _mm_setzero_si128();
+    runStrips(
+        a,
+        [&](int x, int y0, int y1) {
+            if constexpr (Op == LocalOp::Glvn) return false;  // no neighbours: nothing to share
+            localStrip32<Op>(img, x, y0, y1, acc64, si);
+            return true;
+        },
+        [&](int x, int y0, int y1, int skip) {
+            if (skip)
+                localStrip16<Op, true>(img, x, y0, y1, skip, acc64, si16);
+            else
+                localStrip16<Op, false>(img, x, y0, y1, 0, acc64, si16);
+        });
+    sumI = total(si, si16);
+    sumA = sum64(acc64);
 }
 
 }  // namespace
 
-namespace {
-
-// The pixels of @p region whose 3×3 neighbourhood lies inside the image.
-Rect validArea(const Luma8& img, const Rect& region) {
-    const int x0 = std::max(region.x, 1), y0 = std::max(region.y, 1);
-    const int x1 = std::min(region.x + region.w, img.width - 1);
-    const int y1 = std::min(region.y + region.h, img.height - 1);
-    return {x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)};
-}
-
-}  // namespace
-
-double simdLapv(const Luma8& img, const Rect& region, double noiseSigma) {
-    const Rect a = validArea(img, region);
-    if (a.w == 0 || a.h == 0) return 0.0;
-    const int x0 = a.x, y0 = a.y, x1 = a.x + a.w, y1 = a.y + a.h;
-    int64_t sumI = 0, sumL2 = 0;
-    lapvSumsAvx2(img, a, sumI, sumL2);
-    // Σ L telescopes: per column (top-outside − last + below-last − first), likewise per row.
-    int64_t sumL = 0;
-    for (int x = x0; x < x1; ++x)
-        sumL += int(img.at(x, y0 - 1)) - img.at(x, y1 - 1) + img.at(x, y1) - img.at(x, y0);
-    for (int y = y0; y < y1; ++y)
-        sumL += int(img.at(x0 - 1, y)) - img.at(x1 - 1, y) + img.at(x1, y) - img.at(x0, y);
-    return lapvFromSums(static_cast<double>(a.w) * a.h, static_cast<double>(sumI),
-                        static_cast<double>(sumL), static_cast<double>(sumL2),
-                        img.width / kReferenceWidthPx, noiseSigma * noiseSigma);
-}
-
-double simdTeng(const Luma8& img, const Rect& region, double noiseSigma) {
-    const Rect a = validArea(img, region);
-    if (a.w == 0 || a.h == 0) return 0.0;
-    int64_t sumI = 0, sumG2 = 0;
-    tengSumsAvx2(img, a, sumI, sumG2);
-    // Unscaled Sobel is 8× the gradient: divide the squares by 64.
-    return tengFromSums(static_cast<double>(a.w) * a.h, static_cast<double>(sumI),
-                        static_cast<double>(sumG2) / 64.0, img.width / kReferenceWidthPx,
-                        noiseSigma * noiseSigma);
+bool simdSums(const Luma8& img, const Rect& a, FocusOperator op, OperatorSums& out) {
+    if (a.w <= 0 || a.h <= 0) return false;
+    int64_t sumI = 0, sumA = 0, sumA2 = 0;
+    switch (op) {
+        case FocusOperator::Lapv: {
+            lapvSumsAvx2(img, a, sumI, sumA2);
+            // Σ L telescopes: per column (top-outside − last + below-last − first), likewise per
+            // row.
+            const int x0 = a.x, y0 = a.y, x1 = a.x + a.w, y1 = a.y + a.h;
+            for (int x = x0; x < x1; ++x)
+                sumA += int(img.at(x, y0 - 1)) - img.at(x, y1 - 1) + img.at(x, y1) - img.at(x, y0);
+            for (int y = y0; y < y1; ++y)
+                sumA += int(img.at(x0 - 1, y)) - img.at(x1 - 1, y) + img.at(x1, y) - img.at(x0, y);
+            out = {static_cast<double>(a.w) * a.h, static_cast<double>(sumI),
+                   static_cast<double>(sumA), static_cast<double>(sumA2)};
+            return true;
+        }
+        case FocusOperator::Teng:
+        case FocusOperator::Tenv: {
+            if (a.w < 16) return false;
+            if (op == FocusOperator::Teng)
+                tengStrips<false>(img, a, sumI, sumA, sumA2);
+            else
+                tengStrips<true>(img, a, sumI, sumA, sumA2);
+            // Unscaled Sobel is 8× the gradient: G is 64× too large, G² 4096×.
+            out = {static_cast<double>(a.w) * a.h, static_cast<double>(sumI),
+                   static_cast<double>(sumA) / 64.0, static_cast<double>(sumA2) / 4096.0};
+            return true;
+        }
+        case FocusOperator::Lapm:
+        case FocusOperator::Brenner:
+        case FocusOperator::Glvn: {
+            if (a.w < 16) return false;
+            if (op == FocusOperator::Lapm) localStrips<LocalOp::Lapm>(img, a, sumI, sumA);
+            if (op == FocusOperator::Brenner) localStrips<LocalOp::Brenner>(img, a, sumI, sumA);
+            if (op == FocusOperator::Glvn) localStrips<LocalOp::Glvn>(img, a, sumI, sumA2);
+            out = {static_cast<double>(a.w) * a.h, static_cast<double>(sumI),
+                   static_cast<double>(sumA), static_cast<double>(sumA2)};
+            return true;
+        }
+        case FocusOperator::Dctr:
+            break;
+    }
+    return false;
 }
 
 }  // namespace infocus::detail

@@ -15,18 +15,22 @@ double genericSharpness(const Luma8& img, const Rect& region, FocusOperator op, 
 /// True when this CPU runs the AVX2 kernels.
 bool haveAvx2();
 
-/// Fused single-pass LAPV (AVX2 only: check haveAvx2() first): the same number as
-/// genericSharpness(..., Lapv, ...).
-double simdLapv(const Luma8& img, const Rect& region, double noiseSigma);
+/// The sums an operator's score is made of, over the n valid pixels of a region: Σ I, and the
+/// operator's own sums. LAPV: Σ L, Σ L²; LAPM: Σ (|∂²I/∂x²| + |∂²I/∂y²|); TENG and TENV: Σ G,
+/// Σ G² with G = |∇I|² (Sobel/8, grey levels per pixel, squared); Brenner: Σ (Δx² + Δy²) over
+/// two-pixel steps; GLVN: Σ I² as sumA2.
+struct OperatorSums {
+    double n = 0, sumI = 0, sumA = 0, sumA2 = 0;
+};
 
-/// Fused single-pass TENG (AVX2 only).
-double simdTeng(const Luma8& img, const Rect& region, double noiseSigma);
+/// The score of @p op from its sums: @p s the resolution scale (width / reference width) and
+/// @p nv the noise variance to remove. Not for DCTR, which is not a sum over pixels.
+double scoreFromSums(FocusOperator op, const OperatorSums& sums, double s, double nv);
 
-/// TENG from n pixels, Σ I and Σ |∇I|² (grey levels per pixel, squared).
-double tengFromSums(double n, double sumI, double sumG2, double s, double nv);
-
-/// LAPV from the integer sums both kernels produce: n pixels, Σ I, Σ L, Σ L²; s the resolution
-/// scale and nv the noise variance.
-double lapvFromSums(double n, double sumI, double sumL, double sumL2, double s, double nv);
+/// Vectorised sums of @p op over @p valid, the region already cut to the pixels whose
+/// neighbourhood lies inside the image (AVX2 only: check haveAvx2() first). False when @p op or
+/// the area has no vectorised kernel; the caller then uses genericSharpness. Equal to the
+/// reference sums up to double rounding: the pixel arithmetic is exact integer.
+bool simdSums(const Luma8& img, const Rect& valid, FocusOperator op, OperatorSums& sums);
 
 }  // namespace infocus::detail
