@@ -216,20 +216,20 @@ TEST_CASE("the AVX2 kernels equal the reference implementation", "[sharpness][si
         // Every strip combination: 32 + 16, 16 + masked 16, masked 16 alone, below 16 columns.
         for (int w : {48, 20, 17, 15})
             regions.push_back({101, 7, w, 300});
-        for (auto [op, noiseSigma] :
-             {std::pair{FocusOperator::Lapv, 0.0}, std::pair{FocusOperator::Lapv, 1.5},
-              std::pair{FocusOperator::Teng, 0.0}, std::pair{FocusOperator::Teng, 1.5}}) {
-            SharpnessParams simd, plain;
-            simd.op = plain.op = op;
-            simd.noiseSigma = plain.noiseSigma = noiseSigma;
-            plain.simd = false;
-            for (const Rect& r : regions) {
-                const double a = regionSharpness(view(img), r, simd);
-                const double b = regionSharpness(view(img), r, plain);
-                INFO(r.x << "," << r.y << " " << r.w << "x" << r.h << ": " << a << " vs " << b);
-                CHECK(a == Approx(b).epsilon(1e-9).margin(1e-15));
+        for (FocusOperator op : allOperators())
+            for (double noiseSigma : {0.0, 1.5}) {
+                if (op == FocusOperator::Dctr) continue;
+                SharpnessParams simd, plain;
+                simd.op = plain.op = op;
+                simd.noiseSigma = plain.noiseSigma = noiseSigma;
+                plain.simd = false;
+                for (const Rect& r : regions) {
+                    const double a = regionSharpness(view(img), r, simd);
+                    const double b = regionSharpness(view(img), r, plain);
+                    INFO(r.x << "," << r.y << " " << r.w << "x" << r.h << ": " << a << " vs " << b);
+                    CHECK(a == Approx(b).epsilon(1e-9).margin(1e-15));
+                }
             }
-        }
     }
 }
 
