@@ -48,10 +48,13 @@ struct DctBasis {
     }
 };
 
-double dctRatio(const Luma8& img, const Rect& r, double noiseVar) {
+}  // namespace
+
+namespace detail {
+
+DctSums genericDctSums(const Luma8& img, const Rect& r) {
     static const DctBasis basis;
-    double hf = 0, ac = 0;
-    int blocks = 0;
+    DctSums sums;
     double tmp[8][8];
     for (int by = r.y; by + 8 <= r.y + r.h; by += 8)
         for (int bx = r.x; bx + 8 <= r.x + r.w; bx += 8) {
@@ -72,24 +75,24 @@ double dctRatio(const Luma8& img, const Rect& r, double noiseVar) {
                     for (int y = 0; y < 8; ++y)
                         s += basis.c[v][y] * tmp[y][u];
                     const double e = s * s;
-                    ac += e;
-                    if (u + v >= 4) hf += e;
+                    sums.ac += e;
+                    if (u + v >= 4) sums.hf += e;
                 }
-            ++blocks;
+            ++sums.blocks;
         }
-    if (!blocks) return 0.0;
+    return sums;
+}
+
+double dctrFromSums(const DctSums& sums, double nv) {
+    if (sums.blocks <= 0) return 0.0;
     // Orthonormal DCT: white noise puts σ² into every coefficient (63 AC, 54 with u+v ≥ 4).
-    hf = std::max(0.0, hf - blocks * 54.0 * noiseVar);
-    ac = std::max(0.0, ac - blocks * 63.0 * noiseVar);
+    const double hf = std::max(0.0, sums.hf - sums.blocks * 54.0 * nv);
+    const double ac = std::max(0.0, sums.ac - sums.blocks * 63.0 * nv);
     return ac > 0 ? hf / ac : 0.0;
 }
 
-}  // namespace
-
-namespace detail {
-
 bool haveAvx2() {
-    static const bool have = __builtin_cpu_supports("avx2");
+    static const bool have = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
     return have;
 }
 
@@ -125,7 +128,7 @@ double genericSharpness(const Luma8& img, const Rect& region, FocusOperator op, 
     const Rect a = validArea(img, region, margin(op));
     if (a.w <= 0 || a.h <= 0) return 0.0;
     const double nv = noiseSigma * noiseSigma;
-    if (op == FocusOperator::Dctr) return dctRatio(img, a, nv);
+    if (op == FocusOperator::Dctr) return dctrFromSums(genericDctSums(img, a), nv);
     double sumI = 0, sumA = 0, sumA2 = 0;
     for (int y = a.y; y < a.y + a.h; ++y) {
         const uint8_t* c = img.row(y);
@@ -217,9 +220,12 @@ std::vector<Rect> gridRegions(int width, int height, int cols, int rows) {
 
 double regionSharpness(const Luma8& luma, const Rect& region, const SharpnessParams& params) {
     // The one place that picks a vectorised kernel.
-    if (params.simd && detail::haveAvx2() && params.op != FocusOperator::Dctr) {
+    if (params.simd && detail::haveAvx2()) {
         const Rect a = validArea(luma, region, margin(params.op));
         if (a.w <= 0 || a.h <= 0) return 0.0;
+        if (params.op == FocusOperator::Dctr)
+            return detail::dctrFromSums(detail::simdDctSums(luma, a),
+                                        params.noiseSigma * params.noiseSigma);
         detail::OperatorSums sums;
         if (detail::simdSums(luma, a, params.op, sums))
             return detail::scoreFromSums(params.op, sums, scaleOf(luma),
@@ -238,7 +244,7 @@ void sharpness(const Luma8& luma, std::span<const Rect> regions, const Sharpness
     // Threads pay off only when a frame's work (≈0.1 ns/px for LAPV) dwarfs a thread start
     // (≈30 µs): above 4 Mpx for the vectorised kernel, 1 Mpx for the others.
     const double px = static_cast<double>(luma.width) * luma.height;
-    const bool fast = params.simd && params.op != FocusOperator::Dctr && detail::haveAvx2();
+    const bool fast = params.simd && detail::haveAvx2();
     const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
     if (hw < 2 || n < 2 || px < (fast ? 4e6 : 1e6)) {
         work(0, n);

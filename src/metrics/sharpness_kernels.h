@@ -12,7 +12,7 @@ namespace infocus::detail {
 /// Reference implementation of every operator: clear loops, double accumulators.
 double genericSharpness(const Luma8& img, const Rect& region, FocusOperator op, double noiseSigma);
 
-/// True when this CPU runs the AVX2 kernels.
+/// True when this CPU runs the AVX2 kernels (AVX2 and FMA).
 bool haveAvx2();
 
 /// The sums an operator's score is made of, over the n valid pixels of a region: Σ I, and the
@@ -32,5 +32,23 @@ double scoreFromSums(FocusOperator op, const OperatorSums& sums, double s, doubl
 /// the area has no vectorised kernel; the caller then uses genericSharpness. Equal to the
 /// reference sums up to double rounding: the pixel arithmetic is exact integer.
 bool simdSums(const Luma8& img, const Rect& valid, FocusOperator op, OperatorSums& sums);
+
+/// The energies behind DCTR over the 8×8 blocks that fit in a region: block count, the AC energy
+/// (all 63 coefficients but DC) and the high-frequency part (u + v ≥ 4) of the orthonormal DCT-II.
+struct DctSums {
+    double blocks = 0, ac = 0, hf = 0;
+};
+
+/// Reference DCT sums: each block transformed in double.
+DctSums genericDctSums(const Luma8& img, const Rect& valid);
+
+/// DCTR = high-frequency / AC energy, each less its white-noise share (variance @p nv).
+double dctrFromSums(const DctSums& sums, double nv);
+
+/// Vectorised DCT sums (AVX2 only). AC energy and the DC term come from exact integer sums
+/// (Parseval: Σ coefficients² = Σ pixels²); only the nine low-frequency coefficients (u + v ≤ 3)
+/// are transformed, in float, and the high-frequency energy is the rest: agrees with
+/// genericDctSums to float rounding (about 1e-7 of the AC energy).
+DctSums simdDctSums(const Luma8& img, const Rect& valid);
 
 }  // namespace infocus::detail

@@ -218,7 +218,6 @@ TEST_CASE("the AVX2 kernels equal the reference implementation", "[sharpness][si
             regions.push_back({101, 7, w, 300});
         for (FocusOperator op : allOperators())
             for (double noiseSigma : {0.0, 1.5}) {
-                if (op == FocusOperator::Dctr) continue;
                 SharpnessParams simd, plain;
                 simd.op = plain.op = op;
                 simd.noiseSigma = plain.noiseSigma = noiseSigma;
@@ -227,7 +226,11 @@ TEST_CASE("the AVX2 kernels equal the reference implementation", "[sharpness][si
                     const double a = regionSharpness(view(img), r, simd);
                     const double b = regionSharpness(view(img), r, plain);
                     INFO(r.x << "," << r.y << " " << r.w << "x" << r.h << ": " << a << " vs " << b);
-                    CHECK(a == Approx(b).epsilon(1e-9).margin(1e-15));
+                    // Integer pixel sums: equal to double rounding. DCTR transforms its nine
+                    // low-frequency coefficients in float (rounding 6e-8 of their energy), which
+                    // can be up to ~100× the high-frequency energy in a smooth region: 1e-5.
+                    const double tol = op == FocusOperator::Dctr ? 1e-5 : 1e-9;
+                    CHECK(a == Approx(b).epsilon(tol).margin(1e-15));
                 }
             }
     }
