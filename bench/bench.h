@@ -19,6 +19,7 @@ struct BenchRow {
     std::optional<double> baselineMs;  ///< the baseline, median milliseconds per frame
     std::string baseline;              ///< what the baseline is, e.g. "cv::Laplacian+meanStdDev"
     std::string note;                  ///< threads used, target, ...
+    std::string focusOperator = {};    ///< sharpness rows: the operator timed ("teng", ...)
 };
 
 /// Options shared by all benchmarks.
@@ -38,7 +39,8 @@ double medianMs(const std::function<void()>& fn, double budgetS);
 
 // Registered benchmarks (bench/bench.cpp lists them).
 /// Sharpness grid (16×9, default operator) vs cv::Laplacian + cv::meanStdDev per region, at VGA,
-/// 720p, 1080p and 4K, one thread each; plus the per-frame noise estimate.
+/// 720p, 1080p and 4K, then every other operator at 1080p, one thread each; plus the per-frame
+/// noise estimate.
 void benchSharpness(const BenchOptions& options, const RowSink& sink);
 
 /// MJPEG luma-only decode (infocus) vs full-colour RGB decode of the same 1080p JPEG.

@@ -28,43 +28,57 @@ cv::Mat texture(int w, int h) {
     return out;
 }
 
+// One row: the 16×9 grid of @p op on a W×H texture beside the OpenCV composition, both timed
+// here, one thread.
+BenchRow gridRow(const BenchOptions& options, int w, int h, FocusOperator op) {
+    const cv::Mat img = texture(w, h);
+    const Luma8 luma{img.ptr<uint8_t>(), img.cols, img.rows, static_cast<ptrdiff_t>(img.step),
+                     nullptr};
+    const auto regions = gridRegions(img.cols, img.rows, 16, 9);
+    std::vector<double> scores(regions.size());
+    SharpnessParams params;
+    params.op = op;
+    params.noiseSigma = 1.0;
+    const double ms = medianMs(
+        [&] {
+            // regionSharpness per region: one thread even where sharpness() would use two.
+            for (size_t i = 0; i < regions.size(); ++i)
+                scores[i] = regionSharpness(luma, regions[i], params);
+        },
+        options.secondsPerCase);
+    cv::Mat lap;
+    const double base = medianMs(
+        [&] {
+            cv::Laplacian(img, lap, CV_16S);
+            for (size_t i = 0; i < regions.size(); ++i) {
+                const Rect& r = regions[i];
+                cv::Scalar mean, stddev;
+                cv::meanStdDev(lap(cv::Rect(r.x, r.y, r.w, r.h)), mean, stddev);
+                scores[i] = stddev[0] * stddev[0];
+            }
+        },
+        options.secondsPerCase);
+    const std::string name(operatorName(op));
+    return BenchRow{"sharpness",
+                    w,
+                    h,
+                    ms,
+                    base,
+                    "cv::Laplacian + cv::meanStdDev per region",
+                    "16x9 grid, " + name + ", one thread",
+                    name};
+}
+
 }  // namespace
 
 void benchSharpness(const BenchOptions& options, const RowSink& sink) {
-    const int sizes[][2] = {{640, 480}, {1280, 720}, {1920, 1080}, {3840, 2160}};
     const int threadsBefore = cv::getNumThreads();
     cv::setNumThreads(1);  // one core for both sides
-    for (const auto& s : sizes) {
-        const cv::Mat img = texture(s[0], s[1]);
-        const Luma8 luma{img.ptr<uint8_t>(), img.cols, img.rows, static_cast<ptrdiff_t>(img.step),
-                         nullptr};
-        const auto regions = gridRegions(img.cols, img.rows, 16, 9);
-        std::vector<double> scores(regions.size());
-        SharpnessParams params;
-        params.noiseSigma = 1.0;
-        const double ms = medianMs(
-            [&] {
-                // regionSharpness per region: one thread even where sharpness() would use two.
-                for (size_t i = 0; i < regions.size(); ++i)
-                    scores[i] = regionSharpness(luma, regions[i], params);
-            },
-            options.secondsPerCase);
-        cv::Mat lap;
-        const double base = medianMs(
-            [&] {
-                cv::Laplacian(img, lap, CV_16S);
-                for (size_t i = 0; i < regions.size(); ++i) {
-                    const Rect& r = regions[i];
-                    cv::Scalar mean, stddev;
-                    cv::meanStdDev(lap(cv::Rect(r.x, r.y, r.w, r.h)), mean, stddev);
-                    scores[i] = stddev[0] * stddev[0];
-                }
-            },
-            options.secondsPerCase);
-        sink(BenchRow{
-            "sharpness", s[0], s[1], ms, base, "cv::Laplacian + cv::meanStdDev per region",
-            std::string("16x9 grid, ") + std::string(operatorName(params.op)) + ", one thread"});
-    }
+    const int sizes[][2] = {{640, 480}, {1280, 720}, {1920, 1080}, {3840, 2160}};
+    for (const auto& s : sizes)
+        sink(gridRow(options, s[0], s[1], kDefaultOperator));
+    for (FocusOperator op : allOperators())
+        if (op != kDefaultOperator) sink(gridRow(options, 1920, 1080, op));
     // The per-frame noise estimate analyze adds to the grid.
     const cv::Mat img = texture(1920, 1080);
     const Luma8 luma{img.ptr<uint8_t>(), img.cols, img.rows, static_cast<ptrdiff_t>(img.step),

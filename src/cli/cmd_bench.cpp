@@ -90,6 +90,7 @@ int runBench(const BenchArgs& args) {
                 j["speedup"] = *row.baselineMs / row.ms;
                 j["baseline"] = row.baseline;
             }
+            if (!row.focusOperator.empty()) j["operator"] = row.focusOperator;
             if (!row.note.empty()) j["note"] = row.note;
             std::cout << j.dump() << std::endl;
             return;
