@@ -89,7 +89,8 @@ double frameSharpness(const Luma8& luma, const SharpnessParams& params, bool cen
 
 /// Estimates the white-noise σ of @p luma in grey levels (Immerkær 1996, "Fast noise variance
 /// estimation": σ = √(π/2)·mean|I∗M| / 6 with M the 3×3 Laplacian difference mask), taken as the
-/// 10th percentile over a 16×9 grid so that textured regions do not read as noise.
-double estimateNoiseSigma(const Luma8& luma);
+/// 10th percentile over a 16×9 grid so that textured regions do not read as noise. Every fourth
+/// row is sampled. @p simd false forces the reference loops (same result: integer sums).
+double estimateNoiseSigma(const Luma8& luma, bool simd = true);
 
 }  // namespace infocus

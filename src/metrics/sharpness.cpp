@@ -284,15 +284,23 @@ double frameSharpness(const Luma8& luma, const SharpnessParams& params, bool cen
     return combineScores(regions, scores, luma.width, luma.height, centreWeighted);
 }
 
-double estimateNoiseSigma(const Luma8& img) {
+double estimateNoiseSigma(const Luma8& img, bool simd) {
     const auto regions = gridRegions(img.width, img.height, 16, 9);
     std::vector<double> sigmas;
     for (const Rect& r : regions) {
         const Rect a = validArea(img, r, 1);
-        double sum = 0;
-        long count = 0;
         // Every fourth row: the estimate needs statistics, not every pixel.
-        for (int y = a.y; y < a.y + a.h; y += 4) {
+        constexpr int kRowStep = 4;
+        const long count = static_cast<long>(a.w) * ((a.h + kRowStep - 1) / kRowStep);
+        if (simd && detail::haveAvx2()) {
+            const int64_t sum = detail::simdImmerkaerSum(img, a, kRowStep);
+            if (sum >= 0) {
+                if (count) sigmas.push_back(std::sqrt(M_PI / 2) * sum / (6.0 * count));
+                continue;
+            }
+        }
+        double sum = 0;
+        for (int y = a.y; y < a.y + a.h; y += kRowStep) {
             const uint8_t* u = img.row(y - 1);
             const uint8_t* c = img.row(y);
             const uint8_t* d = img.row(y + 1);
@@ -305,7 +313,6 @@ double estimateNoiseSigma(const Luma8& img) {
                 rowSum += v < 0 ? -v : v;
             }
             sum += rowSum;
-            count += a.w;
         }
         if (count) sigmas.push_back(std::sqrt(M_PI / 2) * sum / (6.0 * count));
     }

@@ -656,4 +656,47 @@ DctSums simdDctSums(const Luma8& img, const Rect& a) {
     return out;
 }
 
+int64_t simdImmerkaerSum(const Luma8& img, const Rect& a, int rowStep) {
+    if (a.w < 32) return -1;
+    // M = [1 −2 1]ᵀ[1 −2 1]: per-row terms q = l − 2m + r, then q(y−1) − 2q(y) + q(y+1), in the
+    // even/odd layout of rowTerms32 (one multiply-add forms l − 2m).
+    const __m256i lowByte = _mm256_set1_epi16(0x00ff), ones = _mm256_set1_epi16(1);
+    const __m256i w1m2 = _mm256_set1_epi16(static_cast<int16_t>(0xfe01));  // bytes 1, −2
+    const auto q = [&](const uint8_t* p, __m256i& e, __m256i& o) {
+        const __m256i l = load(p - 1), c = load(p), r = load(p + 1);
+        e = _mm256_add_epi16(_mm256_maddubs_epi16(l, w1m2), _mm256_and_si256(r, lowByte));
+        o = _mm256_add_epi16(_mm256_maddubs_epi16(c, w1m2), _mm256_srli_epi16(r, 8));
+    };
+    const int end = a.x + a.w, full = a.w / 32 * 32;
+    const __m256i mask = tailMask(32 - (a.w - full));
+    const __m256i maskE = _mm256_srai_epi16(_mm256_slli_epi16(mask, 8), 8);
+    const __m256i maskO = _mm256_srai_epi16(mask, 8);
+    __m256i acc64 = _mm256_setzero_si256();
+    for (int y = a.y; y < a.y + a.h; y += rowStep) {
+        const uint8_t *u = img.row(y - 1), *c = img.row(y), *d = img.row(y + 1);
+        // A lane gains at most 2·16·255 per window: a row of any width fits in i32.
+        __m256i acc32 = _mm256_setzero_si256();
+        const auto window = [&](int x, bool masked) {
+            __m256i ue, uo, ce, co, de, dO;
+            q(u + x, ue, uo);
+            q(c + x, ce, co);
+            q(d + x, de, dO);
+            __m256i ne = _mm256_abs_epi16(
+                _mm256_sub_epi16(_mm256_add_epi16(ue, de), _mm256_add_epi16(ce, ce)));
+            __m256i no = _mm256_abs_epi16(
+                _mm256_sub_epi16(_mm256_add_epi16(uo, dO), _mm256_add_epi16(co, co)));
+            if (masked) {
+                ne = _mm256_and_si256(ne, maskE);
+                no = _mm256_and_si256(no, maskO);
+            }
+            acc32 = _mm256_add_epi32(acc32, _mm256_madd_epi16(_mm256_add_epi16(ne, no), ones));
+        };
+        for (int x = a.x; x < a.x + full; x += 32)
+            window(x, false);
+        if (full < a.w) window(end - 32, true);
+        acc64 = widenAdd(acc64, acc32);
+    }
+    return sum64(acc64);
+}
+
 }  // namespace infocus::detail

@@ -2,6 +2,7 @@
 // Internal: the sharpness kernels behind metrics.h, chosen in one place (sharpness.cpp).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 
 #include "infocus/image.h"
@@ -50,5 +51,9 @@ double dctrFromSums(const DctSums& sums, double nv);
 /// are transformed, in float, and the high-frequency energy is the rest: agrees with
 /// genericDctSums to float rounding (about 1e-7 of the AC energy).
 DctSums simdDctSums(const Luma8& img, const Rect& valid);
+
+/// Σ |M ∗ I| of Immerkær's noise kernel M = [1 −2 1; −2 4 −2; 1 −2 1] over every @p rowStep-th
+/// row of @p valid (AVX2 only); −1 when the area is narrower than one vector. Exact integers.
+int64_t simdImmerkaerSum(const Luma8& img, const Rect& valid, int rowStep);
 
 }  // namespace infocus::detail

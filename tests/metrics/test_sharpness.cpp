@@ -249,6 +249,12 @@ TEST_CASE("noise estimate recovers added white noise", "[sharpness][noise]") {
         const double est = estimateNoiseSigma(view(noisy));
         INFO("true " << sigma << " estimated " << est);
         CHECK(est == Approx(sigma).epsilon(0.15));
+        // The vectorised sums are exact integers: the same estimate to double rounding, also on
+        // a frame whose grid regions end in a partial vector (930 / 16 = 58.1 px).
+        CHECK(est == Approx(estimateNoiseSigma(view(noisy), false)).epsilon(1e-12));
+        const cv::Mat odd = noisy(cv::Rect(3, 1, 930, 533)).clone();
+        CHECK(estimateNoiseSigma(view(odd)) ==
+              Approx(estimateNoiseSigma(view(odd), false)).epsilon(1e-12));
     }
     // Noise compensation: LAPV of noisy and clean frames agree far better with it than without.
     cv::Mat f, noisy;
