@@ -34,6 +34,18 @@ inline __m256i widenAdd(__m256i acc64, __m256i v32) {
     return _mm256_add_epi64(acc64, _mm256_cvtepi32_epi64(_mm256_extracti128_si256(v32, 1)));
 }
 
+// Adds 8 float lanes into 4 double lanes.
+inline __m256d addAsDouble(__m256d acc, __m256 v) {
+    acc = _mm256_add_pd(acc, _mm256_cvtps_pd(_mm256_castps256_ps128(v)));
+    return _mm256_add_pd(acc, _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1)));
+}
+
+inline double sumPd(__m256d v) {
+    alignas(32) double s[4];
+    _mm256_store_pd(s, v);
+    return s[0] + s[1] + s[2] + s[3];
+}
+
 inline int64_t sum64(__m256i v) {
     alignas(32) int64_t s[4];
     _mm256_store_si256(reinterpret_cast<__m256i*>(s), v);
@@ -150,33 +162,33 @@ inline RowTerms32 rowTerms32(const uint8_t* p, int x) {
             _mm256_add_epi16(_mm256_maddubs_epi16(c, w12), bo), c};
 }
 
-// Adds the squares of the 8 u32 lanes of @p g to the 4 u64 lanes of @p acc (exact: g < 2^32).
-inline __m256i addSquares64(__m256i acc, __m256i g) {
-    const __m256i hi = _mm256_srli_epi64(g, 32);
-    return _mm256_add_epi64(acc,
-                            _mm256_add_epi64(_mm256_mul_epu32(g, g), _mm256_mul_epu32(hi, hi)));
-}
-
 // Accumulates one row of Sobel components: Σ (Gx² + Gy²) into @p acc32, and with Variance also
-// Σ (Gx² + Gy²)² into @p sq64 (per pixel G from interleaved (Gx, Gy) pairs).
+// Σ (Gx² + Gy²)² into @p sqf. Per pixel G from interleaved (Gx, Gy) pairs is exact in float
+// (G < 2^21); its square is rounded to float (6e-8), and the caller moves @p sqf into doubles
+// every few rows, so TENV agrees with the reference to about 1e-6.
 template <bool Variance>
-inline void addGradient(__m256i gx, __m256i gy, __m256i& acc32, __m256i& sq64) {
+inline void addGradient(__m256i gx, __m256i gy, __m256i& acc32, __m256& sqf) {
     if constexpr (Variance) {
         const __m256i lo = _mm256_unpacklo_epi16(gx, gy), hi = _mm256_unpackhi_epi16(gx, gy);
         const __m256i gLo = _mm256_madd_epi16(lo, lo), gHi = _mm256_madd_epi16(hi, hi);
         acc32 = _mm256_add_epi32(acc32, _mm256_add_epi32(gLo, gHi));
-        sq64 = addSquares64(addSquares64(sq64, gLo), gHi);
+        const __m256 fLo = _mm256_cvtepi32_ps(gLo), fHi = _mm256_cvtepi32_ps(gHi);
+        sqf = _mm256_fmadd_ps(fLo, fLo, _mm256_fmadd_ps(fHi, fHi, sqf));
     } else {
         acc32 = _mm256_add_epi32(
             acc32, _mm256_add_epi32(_mm256_madd_epi16(gx, gx), _mm256_madd_epi16(gy, gy)));
     }
 }
 
+// Rows between moves of the float squares into doubles: a lane gains 4 squares per row, so 16
+// float additions at most.
+constexpr int kFloatRows = 4;
+
 // Σ I and Σ (Gx² + Gy²) of the unscaled Sobel over columns x … x+31 of rows y0 … y1−1 (with
 // Variance also Σ (Gx² + Gy²)²). A lane of the i32 sum gains at most 8·1020² per row: widened to
 // i64 every 128 rows, before it can overflow.
 template <bool Variance>
-void tengStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256i& sq64,
+void tengStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256d& sqd,
                  __m256i& si) {
     const __m256i zero = _mm256_setzero_si256();
     const RowTerms32 r0 = rowTerms32(img.row(y0 - 1), x);
@@ -184,23 +196,30 @@ void tengStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256
     __m256i se0 = r0.se, so0 = r0.so;
     __m256i te = _mm256_add_epi16(r0.he, r1.he), to = _mm256_add_epi16(r0.ho, r1.ho);
     __m256i acc32 = zero;
+    __m256 sqf = _mm256_setzero_ps();
     int rows = 0;
     for (int y = y0; y < y1; ++y) {
         const RowTerms32 r2 = rowTerms32(img.row(y + 1), x);
         si = _mm256_add_epi64(si, _mm256_sad_epu8(r1.centre, zero));
         const __m256i te2 = _mm256_add_epi16(r1.he, r2.he), to2 = _mm256_add_epi16(r1.ho, r2.ho);
-        addGradient<Variance>(_mm256_add_epi16(te, te2), _mm256_sub_epi16(r2.se, se0), acc32, sq64);
-        addGradient<Variance>(_mm256_add_epi16(to, to2), _mm256_sub_epi16(r2.so, so0), acc32, sq64);
+        addGradient<Variance>(_mm256_add_epi16(te, te2), _mm256_sub_epi16(r2.se, se0), acc32, sqf);
+        addGradient<Variance>(_mm256_add_epi16(to, to2), _mm256_sub_epi16(r2.so, so0), acc32, sqf);
         se0 = r1.se, so0 = r1.so;
         te = te2, to = to2;
         r1 = r2;
-        if (++rows == 128) {
+        ++rows;
+        if (Variance && rows % kFloatRows == 0) {
+            sqd = addAsDouble(sqd, sqf);
+            sqf = _mm256_setzero_ps();
+        }
+        if (rows == 128) {
             acc64 = widenAdd(acc64, acc32);
             acc32 = zero;
             rows = 0;
         }
     }
     acc64 = widenAdd(acc64, acc32);
+    if constexpr (Variance) sqd = addAsDouble(sqd, sqf);
 }
 
 inline __m256i load16(const uint8_t* p) {
@@ -210,7 +229,7 @@ inline __m256i load16(const uint8_t* p) {
 // The same for 16 columns at x, in natural order (16-bit lane i is pixel x + i); with Masked the
 // pixels before x + skip are left out (the overlapping last strip of a region).
 template <bool Variance, bool Masked>
-void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc64, __m256i& sq64,
+void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc64, __m256d& sqd,
                  __m128i& si) {
     const auto terms = [&](const uint8_t* p, __m256i& h, __m256i& s) {
         const __m256i l = load16(p + x - 1), m = load16(p + x), r = load16(p + x + 1);
@@ -224,6 +243,7 @@ void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc
     terms(img.row(y0), h1, s1);
     __m256i t = _mm256_add_epi16(h0, h1);
     __m256i acc32 = _mm256_setzero_si256();
+    __m256 sqf = _mm256_setzero_ps();
     int rows = 0;
     for (int y = y0; y < y1; ++y) {
         __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(img.row(y) + x));
@@ -237,15 +257,21 @@ void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc
             gx = _mm256_and_si256(gx, mask16);
             gy = _mm256_and_si256(gy, mask16);
         }
-        addGradient<Variance>(gx, gy, acc32, sq64);
+        addGradient<Variance>(gx, gy, acc32, sqf);
         s0 = s1, s1 = s2, h1 = h2, t = t2;
-        if (++rows == 128) {
+        ++rows;
+        if (Variance && rows % kFloatRows == 0) {
+            sqd = addAsDouble(sqd, sqf);
+            sqf = _mm256_setzero_ps();
+        }
+        if (rows == 128) {
             acc64 = widenAdd(acc64, acc32);
             acc32 = _mm256_setzero_si256();
             rows = 0;
         }
     }
     acc64 = widenAdd(acc64, acc32);
+    if constexpr (Variance) sqd = addAsDouble(sqd, sqf);
 }
 
 // The pixel-local operators walked down 16-column strips in natural order: LAPM
@@ -396,24 +422,25 @@ int64_t total(__m256i v, __m128i v16) {
 }
 
 template <bool Variance>
-void tengStrips(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG, int64_t& sumG2) {
-    __m256i acc64 = _mm256_setzero_si256(), sq64 = acc64, si = acc64;
+void tengStrips(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumG, double& sumG2) {
+    __m256i acc64 = _mm256_setzero_si256(), si = acc64;
+    __m256d sqd = _mm256_setzero_pd();
     __m128i si16 = _mm_setzero_si128();
     runStrips(
         a,
         [&](int x, int y0, int y1) {
-            tengStrip32<Variance>(img, x, y0, y1, acc64, sq64, si);
+            tengStrip32<Variance>(img, x, y0, y1, acc64, sqd, si);
             return true;
         },
         [&](int x, int y0, int y1, int skip) {
             if (skip)
-                tengStrip16<Variance, true>(img, x, y0, y1, skip, acc64, sq64, si16);
+                tengStrip16<Variance, true>(img, x, y0, y1, skip, acc64, sqd, si16);
             else
-                tengStrip16<Variance, false>(img, x, y0, y1, 0, acc64, sq64, si16);
+                tengStrip16<Variance, false>(img, x, y0, y1, 0, acc64, sqd, si16);
         });
     sumI = total(si, si16);
     sumG = sum64(acc64);
-    sumG2 = sum64(sq64);
+    sumG2 = sumPd(sqd);
 }
 
 template <LocalOp Op>
@@ -496,17 +523,6 @@ inline void toFloat(__m256i v16, __m256& lo, __m256& hi) {
     hi = _mm256_cvtepi32_ps(_mm256_cvtepi16_epi32(_mm256_extracti128_si256(v16, 1)));
 }
 
-inline __m256d addAsDouble(__m256d acc, __m256 v) {
-    acc = _mm256_add_pd(acc, _mm256_cvtps_pd(_mm256_castps256_ps128(v)));
-    return _mm256_add_pd(acc, _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1)));
-}
-
-inline double sumPd(__m256d v) {
-    alignas(32) double s[4];
-    _mm256_store_pd(s, v);
-    return s[0] + s[1] + s[2] + s[3];
-}
-
 }  // namespace dct
 
 }  // namespace
@@ -531,13 +547,14 @@ bool simdSums(const Luma8& img, const Rect& a, FocusOperator op, OperatorSums& o
         case FocusOperator::Teng:
         case FocusOperator::Tenv: {
             if (a.w < 16) return false;
+            double sumG2 = 0;
             if (op == FocusOperator::Teng)
-                tengStrips<false>(img, a, sumI, sumA, sumA2);
+                tengStrips<false>(img, a, sumI, sumA, sumG2);
             else
-                tengStrips<true>(img, a, sumI, sumA, sumA2);
+                tengStrips<true>(img, a, sumI, sumA, sumG2);
             // Unscaled Sobel is 8× the gradient: G is 64× too large, G² 4096×.
             out = {static_cast<double>(a.w) * a.h, static_cast<double>(sumI),
-                   static_cast<double>(sumA) / 64.0, static_cast<double>(sumA2) / 4096.0};
+                   static_cast<double>(sumA) / 64.0, sumG2 / 4096.0};
             return true;
         }
         case FocusOperator::Lapm:
