@@ -478,13 +478,13 @@ inline float cosPi16(int k) {
 }
 
 // The raw 8-point DCT-II terms 1 … 3 of a vector x from its butterflies s_k = x_k + x_{7−k} and
-// d_k = x_k − x_{7−k}: t1 = Σ cos((2k+1)π/16) d_k, t2 = cos(π/8)(s0 − s3) + cos(3π/8)(s1 − s2),
-// t3 = Σ cos(3(2k+1)π/16) d_k.
+// d_k = x_k − x_{7−k}: t1 = Σ cos((2k+1)π/16) d_k, t2 = cos(π/8)(s0 − s3) + cos(3π/8)(s1 − s2)
+// (given as s03 = s0 − s3 and s12 = s1 − s2), t3 = Σ cos(3(2k+1)π/16) d_k.
 struct Terms {
     __m256 t1, t2, t3;
 };
 
-inline Terms terms(const __m256 s[4], const __m256 d[4]) {
+inline Terms terms(__m256 s03, __m256 s12, const __m256 d[4]) {
     static const float c1 = cosPi16(1), c2 = cosPi16(2), c3 = cosPi16(3), c5 = cosPi16(5),
                        c6 = cosPi16(6), c7 = cosPi16(7);
     const auto k = [](float v) { return _mm256_set1_ps(v); };
@@ -492,8 +492,7 @@ inline Terms terms(const __m256 s[4], const __m256 d[4]) {
     t.t1 = _mm256_fmadd_ps(
         k(c1), d[0],
         _mm256_fmadd_ps(k(c3), d[1], _mm256_fmadd_ps(k(c5), d[2], _mm256_mul_ps(k(c7), d[3]))));
-    t.t2 = _mm256_fmadd_ps(k(c2), _mm256_sub_ps(s[0], s[3]),
-                           _mm256_mul_ps(k(c6), _mm256_sub_ps(s[1], s[2])));
+    t.t2 = _mm256_fmadd_ps(k(c2), s03, _mm256_mul_ps(k(c6), s12));
     t.t3 = _mm256_fmsub_ps(
         k(c3), d[0],
         _mm256_fmadd_ps(k(c7), d[1], _mm256_fmadd_ps(k(c1), d[2], _mm256_mul_ps(k(c5), d[3]))));
@@ -615,13 +614,14 @@ DctSums simdDctSums(const Luma8& img, const Rect& a) {
                 }
                 const __m256i t0 = _mm256_add_epi16(_mm256_add_epi16(s16[0], s16[1]),
                                                     _mm256_add_epi16(s16[2], s16[3]));
-                __m256 sLo[4], sHi[4], dLo[4], dHi[4], t0Lo, t0Hi;
-                for (int k = 0; k < 4; ++k) {
-                    toFloat(s16[k], sLo[k], sHi[k]);
+                // Only what the cosine weights multiply goes to float: d_k, s0 − s3, s1 − s2.
+                __m256 dLo[4], dHi[4], t0Lo, t0Hi, s03Lo, s03Hi, s12Lo, s12Hi;
+                for (int k = 0; k < 4; ++k)
                     toFloat(d16[k], dLo[k], dHi[k]);
-                }
                 toFloat(t0, t0Lo, t0Hi);
-                const Terms lo = terms(sLo, dLo), hi = terms(sHi, dHi);
+                toFloat(_mm256_sub_epi16(s16[0], s16[3]), s03Lo, s03Hi);
+                toFloat(_mm256_sub_epi16(s16[1], s16[2]), s12Lo, s12Hi);
+                const Terms lo = terms(s03Lo, s12Lo, dLo), hi = terms(s03Hi, s12Hi, dHi);
                 _mm256_store_ps(col[0], t0Lo), _mm256_store_ps(col[0] + 8, t0Hi);
                 _mm256_store_ps(col[1], lo.t1), _mm256_store_ps(col[1] + 8, hi.t1);
                 _mm256_store_ps(col[2], lo.t2), _mm256_store_ps(col[2] + 8, hi.t2);
@@ -651,7 +651,7 @@ DctSums simdDctSums(const Luma8& img, const Rect& a) {
                     a32 = _mm256_fmadd_ps(u0, u0, a32);
                 }
                 if (v == 3) continue;
-                const Terms t = terms(s, d);
+                const Terms t = terms(_mm256_sub_ps(s[0], s[3]), _mm256_sub_ps(s[1], s[2]), d);
                 if (v == 0) {
                     a32 = _mm256_fmadd_ps(t.t1, t.t1, a32);
                     a32 = _mm256_fmadd_ps(t.t2, t.t2, a32);
