@@ -128,27 +128,31 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
     const int step = std::max(1, o.candidateStep);
     const int y0 = std::max(roi.y0, 1), y1 = std::min(roi.y1, img.height - 1);
     const int x0 = std::max(roi.x0, 1), x1 = std::min(roi.x1, img.width - 1);
-    std::vector<Candidate> all;
-    if (x0 >= x1 || y0 >= y1) return all;
+    if (x0 >= x1 || y0 >= y1) return {};
     // One pass stores the grid's gradients (whole rows by the kernel, every step-th kept), the
     // region's peak with them; the threshold relative to it then picks the candidates in scan
-    // order, as the strongest-first sort below expects.
+    // order, as the strongest-first sort below expects. Scratch is reused across regions.
     const int n = x1 - x0;
     const int perRow = (n + step - 1) / step;
+    const size_t gridSize = static_cast<size_t>(perRow) * ((y1 - y0 + step - 1) / step);
     thread_local std::vector<int16_t> rowX, rowY, gridX, gridY;
-    rowX.resize(n);
-    rowY.resize(n);
-    gridX.resize(static_cast<size_t>(perRow) * ((y1 - y0 + step - 1) / step));
-    gridY.resize(gridX.size());
+    thread_local std::vector<int32_t> gridM;
+    thread_local std::vector<Candidate> pool;
+    if (rowX.size() < static_cast<size_t>(n)) rowX.resize(n), rowY.resize(n);
+    if (gridX.size() < gridSize)
+        gridX.resize(gridSize), gridY.resize(gridSize), gridM.resize(gridSize),
+            pool.resize(gridSize);
     int peak2 = 0;
     size_t g = 0;
     for (int y = y0; y < y1; y += step) {
         k.sobelRow(img.row(y - 1), img.row(y), img.row(y + 1), x0, n, rowX.data(), rowY.data());
         for (int i = 0; i < n; i += step, ++g) {
             const int gx = rowX[i], gy = rowY[i];
-            peak2 = std::max(peak2, gx * gx + gy * gy);
+            const int m2 = gx * gx + gy * gy;
+            peak2 = std::max(peak2, m2);
             gridX[g] = rowX[i];
             gridY[g] = rowY[i];
+            gridM[g] = m2;
         }
     }
     const float peak = static_cast<float>(peak2) * (1.0f / 64.0f);
@@ -156,22 +160,18 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
                               static_cast<float>(o.minGradient * o.minGradient));
     // Branch-free selection: whether a grid point passes is as good as random, so every point is
     // written and the count advances only for those above the threshold.
-    all.resize(gridX.size());
     size_t count = 0;
     g = 0;
     for (int y = y0; y < y1; y += step)
         for (int x = x0; x < x1; x += step, ++g) {
-            const int gx = gridX[g], gy = gridY[g];
-            const float mag2 = static_cast<float>(gx * gx + gy * gy) * (1.0f / 64.0f);
-            all[count] = {x, y, gx / 8.0f, gy / 8.0f, mag2};
+            const float mag2 = static_cast<float>(gridM[g]) * (1.0f / 64.0f);
+            pool[count] = {x, y, gridX[g] / 8.0f, gridY[g] / 8.0f, mag2};
             count += !(mag2 < thr);
         }
-    all.resize(count);
-    const size_t m = std::min(cap, all.size());
-    std::partial_sort(all.begin(), all.begin() + m, all.end(),
+    const size_t m = std::min(cap, count);
+    std::partial_sort(pool.begin(), pool.begin() + m, pool.begin() + count,
                       [](const Candidate& a, const Candidate& b) { return a.mag2 > b.mag2; });
-    all.resize(m);
-    return all;
+    return std::vector<Candidate>(pool.begin(), pool.begin() + m);
 }
 
 // Moves @p p onto the edge: a weighted line fit through the centroids of the directional
@@ -198,6 +198,10 @@ double refineGeometry(const Luma8& img, const Bounds& b, const Kernels& k, Patch
         if (hits.size() < static_cast<size_t>(x1 - x0 + 1)) hits.resize(x1 - x0 + 1);
         const int nHits =
             k.aboveThreshold(r, stride, x0, x1, img.width, fnx, fny, thr, hits.data());
+        // Consecutive hits mostly share a slice: sum them in registers and store once per run,
+        // not a load-add-store chain per pixel.
+        int cur = -1;
+        double cw = 0, cwu = 0, cwt = 0;
         for (int h = 0; h < nHits; ++h) {
             const int x = x0 + hits[h];
             const double w =
@@ -206,10 +210,15 @@ double refineGeometry(const Luma8& img, const Bounds& b, const Kernels& k, Patch
             if (w <= 0.0) continue;
             const double u = u0 + p.nx * (x - x0), t = t0 - p.ny * (x - x0);
             const int s = std::clamp(static_cast<int>((t + p.hl) / kSlicePx), 0, slices - 1);
-            sw[s] += w;
-            swu[s] += w * u;
-            swt[s] += w * t;
+            if (s != cur) {
+                if (cur >= 0) sw[cur] += cw, swu[cur] += cwu, swt[cur] += cwt;
+                cur = s, cw = cwu = cwt = 0;
+            }
+            cw += w;
+            cwu += w * u;
+            cwt += w * t;
         }
+        if (cur >= 0) sw[cur] += cw, swu[cur] += cwu, swt[cur] += cwt;
     });
     // Weighted least squares e = a + b·t over the slice centroids (t_k, e_k), weights Σw.
     double W = 0, St = 0, Se = 0, Stt = 0, Ste = 0;
