@@ -25,15 +25,9 @@ void sobelRowGeneric(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x
     }
 }
 
-int aboveThresholdGeneric(const uint8_t* r, ptrdiff_t stride, int x0, int x1, int, float nx,
-                          float ny, float thr, int32_t* out) {
-    int count = 0;
-    for (int x = x0; x <= x1; ++x) {
-        const float d = 0.5f * (static_cast<float>(r[x + 1] - r[x - 1]) * nx +
-                                static_cast<float>(r[x + stride] - r[x - stride]) * ny);
-        if (d > thr) out[count++] = x - x0;
-    }
-    return count;
+void geometryRowGeneric(const uint8_t* r, ptrdiff_t stride, int x0, int x1, int,
+                        const GeometryRow& g, float* acc) {
+    geometryPixels(r, stride, x0, x0, x1, g, acc);
 }
 
 }  // namespace detail
@@ -113,12 +107,12 @@ void forEachRow(const Patch& p, const Bounds& b, Fn&& fn) {
 // The pixel kernels: AVX2 when the CPU has it and the options allow, else the generic reference.
 struct Kernels {
     decltype(&detail::sobelRowGeneric) sobelRow;
-    decltype(&detail::aboveThresholdGeneric) aboveThreshold;
+    decltype(&detail::geometryRowGeneric) geometryRow;
 };
 
 Kernels chooseKernels(const BlurOptions& o) {
-    if (o.simd && detail::haveAvx2()) return {detail::sobelRowAvx2, detail::aboveThresholdAvx2};
-    return {detail::sobelRowGeneric, detail::aboveThresholdGeneric};
+    if (o.simd && detail::haveAvx2()) return {detail::sobelRowAvx2, detail::geometryRowAvx2};
+    return {detail::sobelRowGeneric, detail::geometryRowGeneric};
 }
 
 // Edge candidates: a Sobel gradient (grey levels per pixel) on a sparse grid of the region,
@@ -181,45 +175,36 @@ double refineGeometry(const Luma8& img, const Bounds& b, const Kernels& k, Patch
                       double threshold) {
     constexpr double kSlicePx = 4.0;
     const int slices = std::max(3, static_cast<int>(std::ceil(2.0 * p.hl / kSlicePx)));
-    // Scratch reused across calls: no allocation per edge.
+    // The kernel sums w, w·u, w·t per slice in float partial sums (8 per slice, see
+    // blur_kernels.h), over the pixels whose directional derivative exceeds the threshold; they
+    // are added up here in double. Scratch reused across calls: no allocation per edge.
+    constexpr int kLanes = detail::kGeometryLanes;
+    thread_local std::vector<float> partial;
     thread_local std::vector<double> scratch;
-    scratch.assign(3 * static_cast<size_t>(slices), 0.0);
+    partial.assign(3 * kLanes * static_cast<size_t>(slices), 0.0f);
+    scratch.resize(3 * static_cast<size_t>(slices));
     double* sw = scratch.data();
     double* swu = sw + slices;
     double* swt = swu + slices;
-    const ptrdiff_t stride = img.stride;
-    const float fnx = static_cast<float>(p.nx), fny = static_cast<float>(p.ny);
-    const float thr = static_cast<float>(threshold);
-    thread_local std::vector<int32_t> hits;
+    detail::GeometryRow g{static_cast<float>(p.nx),
+                          static_cast<float>(p.ny),
+                          static_cast<float>(threshold),
+                          0.0f,
+                          0.0f,
+                          static_cast<float>(p.hl),
+                          slices};
     forEachRow(p, b, [&](int y, int x0, int x1, double u0, double t0) {
-        const uint8_t* r = img.row(y);
-        // Most pixels lie below the threshold: the kernel tests them on the cheap float
-        // derivative, and only the few that count are weighed and projected.
-        if (hits.size() < static_cast<size_t>(x1 - x0 + 1)) hits.resize(x1 - x0 + 1);
-        const int nHits =
-            k.aboveThreshold(r, stride, x0, x1, img.width, fnx, fny, thr, hits.data());
-        // Consecutive hits mostly share a slice: sum them in registers and store once per run,
-        // not a load-add-store chain per pixel.
-        int cur = -1;
-        double cw = 0, cwu = 0, cwt = 0;
-        for (int h = 0; h < nHits; ++h) {
-            const int x = x0 + hits[h];
-            const double w =
-                0.5 * ((r[x + 1] - r[x - 1]) * p.nx + (r[x + stride] - r[x - stride]) * p.ny) -
-                threshold;
-            if (w <= 0.0) continue;
-            const double u = u0 + p.nx * (x - x0), t = t0 - p.ny * (x - x0);
-            const int s = std::clamp(static_cast<int>((t + p.hl) / kSlicePx), 0, slices - 1);
-            if (s != cur) {
-                if (cur >= 0) sw[cur] += cw, swu[cur] += cwu, swt[cur] += cwt;
-                cur = s, cw = cwu = cwt = 0;
-            }
-            cw += w;
-            cwu += w * u;
-            cwt += w * t;
-        }
-        if (cur >= 0) sw[cur] += cw, swu[cur] += cwu, swt[cur] += cwt;
+        g.u0 = static_cast<float>(u0);
+        g.t0 = static_cast<float>(t0);
+        k.geometryRow(img.row(y), img.stride, x0, x1, img.width, g, partial.data());
     });
+    for (int s = 0; s < slices; ++s) {
+        const float* a = partial.data() + 3 * kLanes * s;
+        double w = 0, wu = 0, wt = 0;
+        for (int l = 0; l < kLanes; ++l)
+            w += a[l], wu += a[kLanes + l], wt += a[2 * kLanes + l];
+        sw[s] = w, swu[s] = wu, swt[s] = wt;
+    }
     // Weighted least squares e = a + b·t over the slice centroids (t_k, e_k), weights Σw.
     double W = 0, St = 0, Se = 0, Stt = 0, Ste = 0;
     int used = 0;

@@ -4,6 +4,8 @@
 // only after a run-time CPU check.
 #include <immintrin.h>
 
+#include <algorithm>
+
 #include "blur_kernels.h"
 
 namespace infocus::detail {
@@ -42,35 +44,48 @@ void sobelRowAvx2(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x0, 
     if (i < n) sobelRowGeneric(a, m, c, x0 + i, n - i, gx + i, gy + i);
 }
 
-int aboveThresholdAvx2(const uint8_t* r, ptrdiff_t stride, int x0, int x1, int width, float nx,
-                       float ny, float thr, int32_t* out) {
-    const __m256 vnx = _mm256_set1_ps(nx), vny = _mm256_set1_ps(ny);
-    const __m256 half = _mm256_set1_ps(0.5f), vthr = _mm256_set1_ps(thr);
-    int count = 0;
+void geometryRowAvx2(const uint8_t* r, ptrdiff_t stride, int x0, int x1, int width,
+                     const GeometryRow& g, float* acc) {
+    const __m256 vnx = _mm256_set1_ps(g.nx), vny = _mm256_set1_ps(g.ny);
+    const __m256 half = _mm256_set1_ps(0.5f), quarter = _mm256_set1_ps(0.25f);
+    const __m256 vthr = _mm256_set1_ps(g.thr), vu0 = _mm256_set1_ps(g.u0),
+                 vt0 = _mm256_set1_ps(g.t0), vhl = _mm256_set1_ps(g.hl);
+    const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i last = _mm256_set1_epi32(x1 - x0), top = _mm256_set1_epi32(g.slices - 1);
     int x = x0;
     // 8 pixels per step while the loads (up to x + 8 in this row and the next) stay inside the
-    // image's rows; lanes past x1 are masked off.
+    // image's rows; lanes past x1 add zeros.
     for (; x <= x1 && x + 8 < width; x += 8) {
+        const __m256i idx = _mm256_add_epi32(_mm256_set1_epi32(x - x0), iota);
         const __m256 dx = _mm256_sub_ps(widen8f(r + x + 1), widen8f(r + x - 1));
         const __m256 dy = _mm256_sub_ps(widen8f(r + x + stride), widen8f(r + x - stride));
         // Same operations and order as the generic kernel, so the same rounding (no FMA).
         const __m256 d =
             _mm256_mul_ps(half, _mm256_add_ps(_mm256_mul_ps(dx, vnx), _mm256_mul_ps(dy, vny)));
-        unsigned mask =
-            static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(d, vthr, _CMP_GT_OQ)));
-        if (x1 - x < 7) mask &= (2u << (x1 - x)) - 1u;
-        while (mask) {
-            out[count++] = x - x0 + __builtin_ctz(mask);
-            mask &= mask - 1;
+        const __m256 pass = _mm256_and_ps(_mm256_cmp_ps(d, vthr, _CMP_GT_OQ),
+                                          _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+                                              _mm256_add_epi32(last, _mm256_set1_epi32(1)), idx)));
+        if (_mm256_testz_ps(pass, pass)) continue;
+        const __m256 fi = _mm256_cvtepi32_ps(idx);
+        const __m256 w = _mm256_and_ps(pass, _mm256_sub_ps(d, vthr));
+        const __m256 u = _mm256_add_ps(vu0, _mm256_mul_ps(vnx, fi));
+        const __m256 t = _mm256_sub_ps(vt0, _mm256_mul_ps(vny, fi));
+        const __m256 wu = _mm256_mul_ps(w, u), wt = _mm256_mul_ps(w, t);
+        __m256i s = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_add_ps(t, vhl), quarter));
+        s = _mm256_max_epi32(_mm256_setzero_si256(), _mm256_min_epi32(s, top));
+        // t is linear along the row, so the lanes' slices run from the first lane's to the
+        // last's: one to three of them.
+        const int sa = _mm256_extract_epi32(s, 0), sb = _mm256_extract_epi32(s, 7);
+        for (int k = std::min(sa, sb); k <= std::max(sa, sb); ++k) {
+            const __m256 m = _mm256_castsi256_ps(_mm256_cmpeq_epi32(s, _mm256_set1_epi32(k)));
+            float* a = acc + 3 * kGeometryLanes * k;
+            _mm256_storeu_ps(a, _mm256_add_ps(_mm256_loadu_ps(a), _mm256_and_ps(m, w)));
+            _mm256_storeu_ps(a + 8, _mm256_add_ps(_mm256_loadu_ps(a + 8), _mm256_and_ps(m, wu)));
+            _mm256_storeu_ps(a + 16, _mm256_add_ps(_mm256_loadu_ps(a + 16), _mm256_and_ps(m, wt)));
         }
     }
-    if (x <= x1) {
-        const int n = aboveThresholdGeneric(r, stride, x, x1, width, nx, ny, thr, out + count);
-        for (int k = 0; k < n; ++k)
-            out[count + k] += x - x0;
-        count += n;
-    }
-    return count;
+    // The last pixels of the image's last columns: the generic arithmetic, in the same lanes.
+    if (x <= x1) geometryPixels(r, stride, x0, x, x1, g, acc);
 }
 
 }  // namespace infocus::detail

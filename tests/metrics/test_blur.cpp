@@ -112,7 +112,7 @@ TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][si
     const Image<uint8_t> img = synth::toLuma8(f);
     const Luma8 v = img.view();
     std::vector<int16_t> gx0(w), gy0(w), gx1(w), gy1(w);
-    std::vector<int32_t> hit0(w), hit1(w);
+    std::vector<float> acc0, acc1;
     for (int y = 1; y < h - 1; ++y)
         for (int x0 : {1, 2, 7, 40})
             for (int n : {1, 5, 15, 16, 17, 33, w - 1 - x0}) {
@@ -123,19 +123,20 @@ TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][si
                                      gy1.data());
                 CHECK(std::equal(gx0.begin(), gx0.begin() + n, gx1.begin()));
                 CHECK(std::equal(gy0.begin(), gy0.begin() + n, gy1.begin()));
-                // The same float operations in the same order (no FMA): the same pixels pass,
-                // including the last columns, where the vector loop hands over to the scalar.
+                // The same float operations in the same order and lanes (no FMA): the same slice
+                // sums to the bit, including the last columns, where the vector loop hands over
+                // to the scalar one, and slices clamped at both ends.
                 const int x1 = x0 + n - 1;
-                for (double a : {0.0, 0.3, 1.9, 3.7}) {
-                    const float nx = static_cast<float>(std::cos(a)),
-                                ny = static_cast<float>(std::sin(a));
+                for (double a : {0.0, 0.3, 1.9, 3.7, 4.6}) {
+                    const auto nx = static_cast<float>(std::cos(a)),
+                               ny = static_cast<float>(std::sin(a));
                     for (float thr : {-5.0f, 0.0f, 12.5f, 40.0f}) {
-                        const int c0 = detail::aboveThresholdGeneric(v.row(y), v.stride, x0, x1, w,
-                                                                     nx, ny, thr, hit0.data());
-                        const int c1 = detail::aboveThresholdAvx2(v.row(y), v.stride, x0, x1, w, nx,
-                                                                  ny, thr, hit1.data());
-                        REQUIRE(c0 == c1);
-                        CHECK(std::equal(hit0.begin(), hit0.begin() + c0, hit1.begin()));
+                        const detail::GeometryRow g{nx, ny, thr, -3.3f, 7.1f, 9.0f, 5};
+                        acc0.assign(3 * detail::kGeometryLanes * g.slices, 0.0f);
+                        acc1 = acc0;
+                        detail::geometryRowGeneric(v.row(y), v.stride, x0, x1, w, g, acc0.data());
+                        detail::geometryRowAvx2(v.row(y), v.stride, x0, x1, w, g, acc1.data());
+                        CHECK(acc0 == acc1);
                     }
                 }
             }
