@@ -63,6 +63,17 @@ struct Patch {
     double t(double x, double y) const { return -(x - cx) * ny + (y - cy) * nx; }
 };
 
+// ⌊v⌋ and ⌈v⌉ for |v| < 2³¹ (image coordinates): the truncation corrected by one compare, cheaper
+// than the library's rounding without SSE4.1, and exact.
+inline int floorInt(double v) {
+    const int i = static_cast<int>(v);
+    return i - (v < i);
+}
+inline int ceilInt(double v) {
+    const int i = static_cast<int>(v);
+    return i + (v > i);
+}
+
 // Calls fn(y, x0, x1, u0, t0) for every row of @p b holding pixel centres inside @p p: pixels
 // x0..x1 of row y, (u0, t0) the patch coordinates of pixel x0; along the row u grows by nx and t
 // by −ny per pixel, so callers step them instead of projecting every pixel.
@@ -98,8 +109,8 @@ void forEachRow(const Patch& p, const Bounds& b, Fn&& fn) {
             lo = std::max(lo, centre - sl.half);
             hi = std::min(hi, centre + sl.half);
         }
-        const int x0 = std::max(b.x0, static_cast<int>(std::ceil(lo - 0.5)));
-        const int x1 = std::min(b.x1 - 1, static_cast<int>(std::floor(hi - 0.5)));
+        const int x0 = std::max(b.x0, ceilInt(lo - 0.5));
+        const int x1 = std::min(b.x1 - 1, floorInt(hi - 0.5));
         if (x0 <= x1) fn(y, x0, x1, p.u(x0 + 0.5, y + 0.5), p.t(x0 + 0.5, y + 0.5));
     }
 }
@@ -162,9 +173,15 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
             pool[count] = {x, y, gridX[g] / 8.0f, gridY[g] / 8.0f, mag2};
             count += !(mag2 < thr);
         }
+    // Strongest first, equal gradients in scan order: the m strongest by selection, then sorted
+    // (a total order, so no heap of all candidates).
     const size_t m = std::min(cap, count);
-    std::partial_sort(pool.begin(), pool.begin() + m, pool.begin() + count,
-                      [](const Candidate& a, const Candidate& b) { return a.mag2 > b.mag2; });
+    auto stronger = [](const Candidate& a, const Candidate& b) {
+        if (a.mag2 != b.mag2) return a.mag2 > b.mag2;
+        return a.y != b.y ? a.y < b.y : a.x < b.x;
+    };
+    std::nth_element(pool.begin(), pool.begin() + m, pool.begin() + count, stronger);
+    std::sort(pool.begin(), pool.begin() + m, stronger);
     return std::vector<Candidate>(pool.begin(), pool.begin() + m);
 }
 
