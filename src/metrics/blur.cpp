@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include "blur_kernels.h"
@@ -142,11 +143,11 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
     const size_t gridSize = static_cast<size_t>(perRow) * ((y1 - y0 + step - 1) / step);
     thread_local std::vector<int16_t> rowX, rowY, gridX, gridY;
     thread_local std::vector<int32_t> gridM;
-    thread_local std::vector<Candidate> pool;
+    thread_local std::vector<uint64_t> keys;
     if (rowX.size() < static_cast<size_t>(n)) rowX.resize(n), rowY.resize(n);
     if (gridX.size() < gridSize)
         gridX.resize(gridSize), gridY.resize(gridSize), gridM.resize(gridSize),
-            pool.resize(gridSize);
+            keys.resize(gridSize);
     int peak2 = 0;
     size_t g = 0;
     for (int y = y0; y < y1; y += step) {
@@ -164,25 +165,27 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
     const auto thr = std::max(static_cast<float>(o.relativeGradient * o.relativeGradient * peak),
                               static_cast<float>(o.minGradient * o.minGradient));
     // Branch-free selection: whether a grid point passes is as good as random, so every point is
-    // written and the count advances only for those above the threshold.
+    // written and the count advances only for those above the threshold. A point is a 64-bit key,
+    // |g|² above its complemented grid index: the larger key is the stronger point, equal
+    // gradients in scan order, so selection and sorting compare plain integers.
     size_t count = 0;
-    g = 0;
-    for (int y = y0; y < y1; y += step)
-        for (int x = x0; x < x1; x += step, ++g) {
-            const float mag2 = static_cast<float>(gridM[g]) * (1.0f / 64.0f);
-            pool[count] = {x, y, gridX[g] / 8.0f, gridY[g] / 8.0f, mag2};
-            count += !(mag2 < thr);
-        }
-    // Strongest first, equal gradients in scan order: the m strongest by selection, then sorted
-    // (a total order, so no heap of all candidates).
+    for (g = 0; g < gridSize; ++g) {
+        const int32_t m2 = gridM[g];
+        keys[count] = (static_cast<uint64_t>(m2) << 32) | (0xffffffffu - static_cast<uint32_t>(g));
+        count += !(static_cast<float>(m2) * (1.0f / 64.0f) < thr);
+    }
+    // The m strongest by selection, then sorted (no heap of all candidates).
     const size_t m = std::min(cap, count);
-    auto stronger = [](const Candidate& a, const Candidate& b) {
-        if (a.mag2 != b.mag2) return a.mag2 > b.mag2;
-        return a.y != b.y ? a.y < b.y : a.x < b.x;
-    };
-    std::nth_element(pool.begin(), pool.begin() + m, pool.begin() + count, stronger);
-    std::sort(pool.begin(), pool.begin() + m, stronger);
-    return std::vector<Candidate>(pool.begin(), pool.begin() + m);
+    std::nth_element(keys.begin(), keys.begin() + m, keys.begin() + count, std::greater<>());
+    std::sort(keys.begin(), keys.begin() + m, std::greater<>());
+    std::vector<Candidate> out(m);
+    for (size_t i = 0; i < m; ++i) {
+        const size_t q = 0xffffffffu - static_cast<uint32_t>(keys[i]);
+        out[i] = {x0 + static_cast<int>(q % perRow) * step,
+                  y0 + static_cast<int>(q / perRow) * step, gridX[q] / 8.0f, gridY[q] / 8.0f,
+                  static_cast<float>(gridM[q]) * (1.0f / 64.0f)};
+    }
+    return out;
 }
 
 // Moves @p p onto the edge: a weighted line fit through the centroids of the directional
