@@ -26,9 +26,12 @@ void sobelRowGeneric(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x
     }
 }
 
-void geometryRowGeneric(const uint8_t* r, ptrdiff_t stride, int x0, int x1, int,
-                        const GeometryRow& g, float* acc) {
-    geometryPixels(r, stride, x0, x0, x1, g, acc);
+void geometryRowsGeneric(const GeometrySpan* spans, int count, ptrdiff_t stride, int,
+                         const GeometryPatch& g, float* acc) {
+    for (int k = 0; k < count; ++k) {
+        const GeometrySpan& sp = spans[k];
+        geometryPixels(sp.r, stride, sp.x0, sp.x0, sp.x1, sp.u0, sp.t0, g, acc);
+    }
 }
 
 }  // namespace detail
@@ -119,12 +122,12 @@ void forEachRow(const Patch& p, const Bounds& b, Fn&& fn) {
 // The pixel kernels: AVX2 when the CPU has it and the options allow, else the generic reference.
 struct Kernels {
     decltype(&detail::sobelRowGeneric) sobelRow;
-    decltype(&detail::geometryRowGeneric) geometryRow;
+    decltype(&detail::geometryRowsGeneric) geometryRows;
 };
 
 Kernels chooseKernels(const BlurOptions& o) {
-    if (o.simd && detail::haveAvx2()) return {detail::sobelRowAvx2, detail::geometryRowAvx2};
-    return {detail::sobelRowGeneric, detail::geometryRowGeneric};
+    if (o.simd && detail::haveAvx2()) return {detail::sobelRowAvx2, detail::geometryRowsAvx2};
+    return {detail::sobelRowGeneric, detail::geometryRowsGeneric};
 }
 
 // Edge candidates: a Sobel gradient (grey levels per pixel) on a sparse grid of the region,
@@ -206,18 +209,16 @@ double refineGeometry(const Luma8& img, const Bounds& b, const Kernels& k, Patch
     double* sw = scratch.data();
     double* swu = sw + slices;
     double* swt = swu + slices;
-    detail::GeometryRow g{static_cast<float>(p.nx),
-                          static_cast<float>(p.ny),
-                          static_cast<float>(threshold),
-                          0.0f,
-                          0.0f,
-                          static_cast<float>(p.hl),
-                          slices};
+    const detail::GeometryPatch g{static_cast<float>(p.nx), static_cast<float>(p.ny),
+                                  static_cast<float>(threshold), static_cast<float>(p.hl), slices};
+    // The rows first, then one kernel call for all of them.
+    thread_local std::vector<detail::GeometrySpan> spans;
+    spans.clear();
     forEachRow(p, b, [&](int y, int x0, int x1, double u0, double t0) {
-        g.u0 = static_cast<float>(u0);
-        g.t0 = static_cast<float>(t0);
-        k.geometryRow(img.row(y), img.stride, x0, x1, img.width, g, partial.data());
+        spans.push_back({img.row(y), x0, x1, static_cast<float>(u0), static_cast<float>(t0)});
     });
+    k.geometryRows(spans.data(), static_cast<int>(spans.size()), img.stride, img.width, g,
+                   partial.data());
     for (int s = 0; s < slices; ++s) {
         const float* a = partial.data() + 3 * kLanes * s;
         double w = 0, wu = 0, wt = 0;

@@ -16,35 +16,42 @@ void sobelRowGeneric(const uint8_t* above, const uint8_t* mid, const uint8_t* be
 void sobelRowAvx2(const uint8_t* above, const uint8_t* mid, const uint8_t* below, int x0, int n,
                   int16_t* gx, int16_t* gy);
 
-/// One row of an oriented patch for the edge-geometry fit: the normal (nx, ny), the derivative
-/// threshold, the patch coordinates (u0, t0) of the row's first pixel x0 (u grows by nx and t by
-/// −ny per pixel), the half-length hl and the number of 4 px slices along the edge.
-struct GeometryRow {
-    float nx, ny, thr, u0, t0, hl;
+/// An oriented patch for the edge-geometry fit: the normal (nx, ny), the derivative threshold, the
+/// half-length hl and the number of 4 px slices along the edge.
+struct GeometryPatch {
+    float nx, ny, thr, hl;
     int slices;
+};
+
+/// One row of the patch: pixels x0..x1 of image row @p r; (u0, t0) are the patch coordinates of
+/// pixel x0 (u grows by nx and t by −ny per pixel).
+struct GeometrySpan {
+    const uint8_t* r;
+    int x0, x1;
+    float u0, t0;
 };
 
 /// Number of partial sums per slice kept by the geometry kernels: lane i of a row adds into
 /// partial (i − x0) mod 8, so that the vector and the generic kernel add in the same order.
 constexpr int kGeometryLanes = 8;
 
-/// Adds the pixels x0..x1 of row @p r (image stride @p stride, @p width pixels) whose directional
-/// derivative d = 0.5 (Δx·nx + Δy·ny) (central differences) exceeds thr to the slice sums
-/// @p acc: for slice s = ⌊(t + hl)/4⌋ (clamped), acc[(3s + j)·8 + lane] += w, w·u, w·t for
+/// Adds the pixels of the @p count rows @p spans (image stride @p stride, @p width pixels) whose
+/// directional derivative d = 0.5 (Δx·nx + Δy·ny) (central differences) exceeds thr to the slice
+/// sums @p acc: for slice s = ⌊(t + hl)/4⌋ (clamped), acc[(3s + j)·8 + lane] += w, w·u, w·t for
 /// j = 0, 1, 2, with w = d − thr; all in float.
-void geometryRowGeneric(const uint8_t* r, ptrdiff_t stride, int x0, int x1, int width,
-                        const GeometryRow& g, float* acc);
+void geometryRowsGeneric(const GeometrySpan* spans, int count, ptrdiff_t stride, int width,
+                         const GeometryPatch& g, float* acc);
 /// The scalar arithmetic of both geometry kernels for the pixels from..x1 of a row that starts at
 /// x0 (lanes and coordinates counted from x0).
-inline void geometryPixels(const uint8_t* r, ptrdiff_t stride, int x0, int from, int x1,
-                           const GeometryRow& g, float* acc) {
+inline void geometryPixels(const uint8_t* r, ptrdiff_t stride, int x0, int from, int x1, float u0,
+                           float t0, const GeometryPatch& g, float* acc) {
     for (int x = from; x <= x1; ++x) {
         const float d = 0.5f * (static_cast<float>(r[x + 1] - r[x - 1]) * g.nx +
                                 static_cast<float>(r[x + stride] - r[x - stride]) * g.ny);
         if (!(d > g.thr)) continue;
         const int i = x - x0;
         const float w = d - g.thr, fi = static_cast<float>(i);
-        const float u = g.u0 + g.nx * fi, t = g.t0 - g.ny * fi;
+        const float u = u0 + g.nx * fi, t = t0 - g.ny * fi;
         int s = static_cast<int>((t + g.hl) * 0.25f);
         s = s < 0 ? 0 : (s > g.slices - 1 ? g.slices - 1 : s);
         float* a = acc + 3 * kGeometryLanes * s + (i & (kGeometryLanes - 1));
@@ -54,8 +61,8 @@ inline void geometryPixels(const uint8_t* r, ptrdiff_t stride, int x0, int from,
     }
 }
 
-/// geometryRowGeneric with AVX2 (check haveAvx2() first): the same sums to the bit.
-void geometryRowAvx2(const uint8_t* r, ptrdiff_t stride, int x0, int x1, int width,
-                     const GeometryRow& g, float* acc);
+/// geometryRowsGeneric with AVX2 (check haveAvx2() first): the same sums to the bit.
+void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, int width,
+                      const GeometryPatch& g, float* acc);
 
 }  // namespace infocus::detail

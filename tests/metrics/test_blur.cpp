@@ -131,11 +131,16 @@ TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][si
                     const auto nx = static_cast<float>(std::cos(a)),
                                ny = static_cast<float>(std::sin(a));
                     for (float thr : {-5.0f, 0.0f, 12.5f, 40.0f}) {
-                        const detail::GeometryRow g{nx, ny, thr, -3.3f, 7.1f, 9.0f, 5};
+                        // Two rows: this one and, shifted, the one above it.
+                        const detail::GeometryPatch g{nx, ny, thr, 9.0f, 5};
+                        const detail::GeometrySpan spans[2] = {
+                            {v.row(y), x0, x1, -3.3f, 7.1f},
+                            {v.row(y - 1) + 1, x0, x1 - 1, 2.4f, -8.2f}};
+                        const int rows = y > 1 ? 2 : 1;
                         acc0.assign(3 * detail::kGeometryLanes * g.slices, 0.0f);
                         acc1 = acc0;
-                        detail::geometryRowGeneric(v.row(y), v.stride, x0, x1, w, g, acc0.data());
-                        detail::geometryRowAvx2(v.row(y), v.stride, x0, x1, w, g, acc1.data());
+                        detail::geometryRowsGeneric(spans, rows, v.stride, w, g, acc0.data());
+                        detail::geometryRowsAvx2(spans, rows, v.stride, w, g, acc1.data());
                         CHECK(acc0 == acc1);
                     }
                 }
