@@ -28,6 +28,9 @@ struct BlurOptions {
     /// Known in-focus blur of the optics (diffraction, aberrations), as a Gaussian σ in pixels,
     /// removed in quadrature like the pixel's area; 0 keeps the optics' share in the result.
     double opticsFloorSigmaPx = 0.0;
+    /// Use the AVX2 pixel kernels when the CPU has them (same results); false runs the generic
+    /// reference code.
+    bool simd = true;
 };
 
 /// The blur of one region. All widths are in pixels of the analysed image, with the pixel area

@@ -5,9 +5,36 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 
+#include "blur_kernels.h"
+#include "sharpness_kernels.h"
+
 namespace infocus {
+
+namespace detail {
+
+void sobelRowGeneric(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x0, int n,
+                     int16_t* gx, int16_t* gy) {
+    for (int i = 0; i < n; ++i) {
+        const int x = x0 + i;
+        gx[i] = static_cast<int16_t>((a[x + 1] - a[x - 1]) + 2 * (m[x + 1] - m[x - 1]) +
+                                     (c[x + 1] - c[x - 1]));
+        gy[i] =
+            static_cast<int16_t>((c[x - 1] - a[x - 1]) + 2 * (c[x] - a[x]) + (c[x + 1] - a[x + 1]));
+    }
+}
+
+void geometryRowsGeneric(const GeometrySpan* spans, int count, ptrdiff_t stride, int,
+                         const GeometryPatch& g, float* acc) {
+    for (int k = 0; k < count; ++k) {
+        const GeometrySpan& sp = spans[k];
+        geometryPixels(sp.r, stride, sp.x0, sp.x0, sp.x1, sp.u0, sp.t0, g, acc);
+    }
+}
+
+}  // namespace detail
 
 namespace {
 
@@ -42,6 +69,17 @@ struct Patch {
     double u(double x, double y) const { return (x - cx) * nx + (y - cy) * ny; }
     double t(double x, double y) const { return -(x - cx) * ny + (y - cy) * nx; }
 };
+
+// ⌊v⌋ and ⌈v⌉ for |v| < 2³¹ (image coordinates): the truncation corrected by one compare, cheaper
+// than the library's rounding without SSE4.1, and exact.
+inline int floorInt(double v) {
+    const int i = static_cast<int>(v);
+    return i - (v < i);
+}
+inline int ceilInt(double v) {
+    const int i = static_cast<int>(v);
+    return i + (v > i);
+}
 
 // Calls fn(y, x0, x1, u0, t0) for every row of @p b holding pixel centres inside @p p: pixels
 // x0..x1 of row y, (u0, t0) the patch coordinates of pixel x0; along the row u grows by nx and t
@@ -78,88 +116,119 @@ void forEachRow(const Patch& p, const Bounds& b, Fn&& fn) {
             lo = std::max(lo, centre - sl.half);
             hi = std::min(hi, centre + sl.half);
         }
-        const int x0 = std::max(b.x0, static_cast<int>(std::ceil(lo - 0.5)));
-        const int x1 = std::min(b.x1 - 1, static_cast<int>(std::floor(hi - 0.5)));
+        const int x0 = std::max(b.x0, ceilInt(lo - 0.5));
+        const int x1 = std::min(b.x1 - 1, floorInt(hi - 0.5));
         if (x0 <= x1) fn(y, x0, x1, p.u(x0 + 0.5, y + 0.5), p.t(x0 + 0.5, y + 0.5));
     }
+}
+
+// The pixel kernels: AVX2 when the CPU has it and the options allow, else the generic reference.
+struct Kernels {
+    decltype(&detail::sobelRowGeneric) sobelRow;
+    decltype(&detail::geometryRowsGeneric) geometryRows;
+};
+
+Kernels chooseKernels(const BlurOptions& o) {
+    if (o.simd && detail::haveAvx2()) return {detail::sobelRowAvx2, detail::geometryRowsAvx2};
+    return {detail::sobelRowGeneric, detail::geometryRowsGeneric};
 }
 
 // Edge candidates: a Sobel gradient (grey levels per pixel) on a sparse grid of the region,
 // strongest first, at most @p cap of them.
 std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const BlurOptions& o,
-                                      size_t cap) {
+                                      const Kernels& k, size_t cap) {
     const int step = std::max(1, o.candidateStep);
     const int y0 = std::max(roi.y0, 1), y1 = std::min(roi.y1, img.height - 1);
     const int x0 = std::max(roi.x0, 1), x1 = std::min(roi.x1, img.width - 1);
-    auto sobel = [&](int x, int y, int& gx, int& gy) {
-        const uint8_t* a = img.row(y - 1);
-        const uint8_t* m = img.row(y);
-        const uint8_t* c = img.row(y + 1);
-        gx = (a[x + 1] - a[x - 1]) + 2 * (m[x + 1] - m[x - 1]) + (c[x + 1] - c[x - 1]);
-        gy = (c[x - 1] - a[x - 1]) + 2 * (c[x] - a[x]) + (c[x + 1] - a[x + 1]);
-    };
-    // Two passes, the region's peak first, so that only candidates above the relative threshold
-    // are stored (in scan order, as the strongest-first sort below expects).
+    if (x0 >= x1 || y0 >= y1) return {};
+    // One pass stores the grid's gradients (whole rows by the kernel, every step-th kept), the
+    // region's peak with them; the threshold relative to it then picks the candidates in scan
+    // order, as the strongest-first sort below expects. Scratch is reused across regions.
+    const int n = x1 - x0;
+    const int perRow = (n + step - 1) / step;
+    const size_t gridSize = static_cast<size_t>(perRow) * ((y1 - y0 + step - 1) / step);
+    thread_local std::vector<int16_t> rowX, rowY, gridX, gridY;
+    thread_local std::vector<int32_t> gridM;
+    thread_local std::vector<uint64_t> keys;
+    if (rowX.size() < static_cast<size_t>(n)) rowX.resize(n), rowY.resize(n);
+    if (gridX.size() < gridSize)
+        gridX.resize(gridSize), gridY.resize(gridSize), gridM.resize(gridSize),
+            keys.resize(gridSize);
     int peak2 = 0;
-    for (int y = y0; y < y1; y += step)
-        for (int x = x0; x < x1; x += step) {
-            int gx, gy;
-            sobel(x, y, gx, gy);
-            peak2 = std::max(peak2, gx * gx + gy * gy);
+    size_t g = 0;
+    for (int y = y0; y < y1; y += step) {
+        k.sobelRow(img.row(y - 1), img.row(y), img.row(y + 1), x0, n, rowX.data(), rowY.data());
+        for (int i = 0; i < n; i += step, ++g) {
+            const int gx = rowX[i], gy = rowY[i];
+            const int m2 = gx * gx + gy * gy;
+            peak2 = std::max(peak2, m2);
+            gridX[g] = rowX[i];
+            gridY[g] = rowY[i];
+            gridM[g] = m2;
         }
+    }
     const float peak = static_cast<float>(peak2) * (1.0f / 64.0f);
     const auto thr = std::max(static_cast<float>(o.relativeGradient * o.relativeGradient * peak),
                               static_cast<float>(o.minGradient * o.minGradient));
-    std::vector<Candidate> all;
-    for (int y = y0; y < y1; y += step)
-        for (int x = x0; x < x1; x += step) {
-            int gx, gy;
-            sobel(x, y, gx, gy);
-            const float mag2 = static_cast<float>(gx * gx + gy * gy) * (1.0f / 64.0f);
-            if (mag2 < thr) continue;
-            all.push_back({x, y, gx / 8.0f, gy / 8.0f, mag2});
-        }
-    const size_t n = std::min(cap, all.size());
-    std::partial_sort(all.begin(), all.begin() + n, all.end(),
-                      [](const Candidate& a, const Candidate& b) { return a.mag2 > b.mag2; });
-    all.resize(n);
-    return all;
+    // Branch-free selection: whether a grid point passes is as good as random, so every point is
+    // written and the count advances only for those above the threshold. A point is a 64-bit key,
+    // |g|² above its complemented grid index: the larger key is the stronger point, equal
+    // gradients in scan order, so selection and sorting compare plain integers.
+    size_t count = 0;
+    for (g = 0; g < gridSize; ++g) {
+        const int32_t m2 = gridM[g];
+        keys[count] = (static_cast<uint64_t>(m2) << 32) | (0xffffffffu - static_cast<uint32_t>(g));
+        count += !(static_cast<float>(m2) * (1.0f / 64.0f) < thr);
+    }
+    // The m strongest by selection, then sorted (no heap of all candidates).
+    const size_t m = std::min(cap, count);
+    std::nth_element(keys.begin(), keys.begin() + m, keys.begin() + count, std::greater<>());
+    std::sort(keys.begin(), keys.begin() + m, std::greater<>());
+    std::vector<Candidate> out(m);
+    for (size_t i = 0; i < m; ++i) {
+        const size_t q = 0xffffffffu - static_cast<uint32_t>(keys[i]);
+        out[i] = {x0 + static_cast<int>(q % perRow) * step,
+                  y0 + static_cast<int>(q / perRow) * step, gridX[q] / 8.0f, gridY[q] / 8.0f,
+                  static_cast<float>(gridM[q]) * (1.0f / 64.0f)};
+    }
+    return out;
 }
 
 // Moves @p p onto the edge: a weighted line fit through the centroids of the directional
 // derivative in slices along the edge. Returns the RMS scatter of the centroids about the line
 // (px), or a negative value when too few slices carry an edge.
-double refineGeometry(const Luma8& img, const Bounds& b, Patch& p, double threshold) {
+double refineGeometry(const Luma8& img, const Bounds& b, const Kernels& k, Patch& p,
+                      double threshold) {
     constexpr double kSlicePx = 4.0;
     const int slices = std::max(3, static_cast<int>(std::ceil(2.0 * p.hl / kSlicePx)));
-    // Scratch reused across calls: no allocation per edge.
+    // The kernel sums w, w·u, w·t per slice in float partial sums (8 per slice, see
+    // blur_kernels.h), over the pixels whose directional derivative exceeds the threshold; they
+    // are added up here in double. Scratch reused across calls: no allocation per edge.
+    constexpr int kLanes = detail::kGeometryLanes;
+    thread_local std::vector<float> partial;
     thread_local std::vector<double> scratch;
-    scratch.assign(3 * static_cast<size_t>(slices), 0.0);
+    partial.assign(3 * kLanes * static_cast<size_t>(slices), 0.0f);
+    scratch.resize(3 * static_cast<size_t>(slices));
     double* sw = scratch.data();
     double* swu = sw + slices;
     double* swt = swu + slices;
-    const ptrdiff_t stride = img.stride;
-    const float fnx = static_cast<float>(p.nx), fny = static_cast<float>(p.ny);
-    const float thr = static_cast<float>(threshold);
+    const detail::GeometryPatch g{static_cast<float>(p.nx), static_cast<float>(p.ny),
+                                  static_cast<float>(threshold), static_cast<float>(p.hl), slices};
+    // The rows first, then one kernel call for all of them.
+    thread_local std::vector<detail::GeometrySpan> spans;
+    spans.clear();
     forEachRow(p, b, [&](int y, int x0, int x1, double u0, double t0) {
-        const uint8_t* r = img.row(y);
-        for (int x = x0; x <= x1; ++x) {
-            // Most pixels lie below the threshold: test them on the cheap float derivative and
-            // project only the few that count.
-            const float d = 0.5f * (static_cast<float>(r[x + 1] - r[x - 1]) * fnx +
-                                    static_cast<float>(r[x + stride] - r[x - stride]) * fny);
-            if (d <= thr) continue;
-            const double w =
-                0.5 * ((r[x + 1] - r[x - 1]) * p.nx + (r[x + stride] - r[x - stride]) * p.ny) -
-                threshold;
-            if (w <= 0.0) continue;
-            const double u = u0 + p.nx * (x - x0), t = t0 - p.ny * (x - x0);
-            const int s = std::clamp(static_cast<int>((t + p.hl) / kSlicePx), 0, slices - 1);
-            sw[s] += w;
-            swu[s] += w * u;
-            swt[s] += w * t;
-        }
+        spans.push_back({img.row(y), x0, x1, static_cast<float>(u0), static_cast<float>(t0)});
     });
+    k.geometryRows(spans.data(), static_cast<int>(spans.size()), img.stride, img.width, g,
+                   partial.data());
+    for (int s = 0; s < slices; ++s) {
+        const float* a = partial.data() + 3 * kLanes * s;
+        double w = 0, wu = 0, wt = 0;
+        for (int l = 0; l < kLanes; ++l)
+            w += a[l], wu += a[kLanes + l], wt += a[2 * kLanes + l];
+        sw[s] = w, swu[s] = wu, swt[s] = wt;
+    }
     // Weighted least squares e = a + b·t over the slice centroids (t_k, e_k), weights Σw.
     double W = 0, St = 0, Se = 0, Stt = 0, Ste = 0;
     int used = 0;
@@ -352,13 +421,15 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
 void sampleEsf(const Luma8& img, const Bounds& b, const Patch& p, double binPx,
                std::vector<Bin>& bins) {
     const int n = static_cast<int>(std::ceil(2.0 * p.hw / binPx));
+    // Grey-level sums in integers (exact); positions in double.
     struct Acc {
-        double s, s2, su, suu;
-        int cnt;
+        double su, suu;
+        int64_t s2;
+        int32_t s, cnt;
     };
     // Scratch reused across calls: no allocation per edge.
     thread_local std::vector<Acc> acc;
-    acc.assign(n, Acc{0.0, 0.0, 0.0, 0.0, 0});
+    acc.assign(n, Acc{0.0, 0.0, 0, 0, 0});
     const double inv = 1.0 / binPx;
     forEachRow(p, b, [&](int y, int x0, int x1, double u0, double) {
         const uint8_t* row = img.row(y);
@@ -366,7 +437,7 @@ void sampleEsf(const Luma8& img, const Bounds& b, const Patch& p, double binPx,
             const double u = u0 + p.nx * (x - x0);
             const int k = static_cast<int>((u + p.hw) * inv);
             if (k < 0 || k >= n) continue;
-            const double v = row[x];
+            const int32_t v = row[x];
             Acc& a = acc[k];
             a.s += v, a.s2 += v * v, a.su += u, a.suu += u * u, ++a.cnt;
         }
@@ -375,9 +446,9 @@ void sampleEsf(const Luma8& img, const Bounds& b, const Patch& p, double binPx,
     for (int k = 0; k < n; ++k) {
         const Acc& a = acc[k];
         if (a.cnt == 0) continue;
-        const double m = a.su / a.cnt, v = a.s / a.cnt;
+        const double m = a.su / a.cnt, v = static_cast<double>(a.s) / a.cnt;
         bins.push_back({m, v, std::max(0.0, a.suu / a.cnt - m * m),
-                        std::max(0.0, a.s2 / a.cnt - v * v), a.cnt});
+                        std::max(0.0, static_cast<double>(a.s2) / a.cnt - v * v), a.cnt});
     }
 }
 
@@ -408,8 +479,8 @@ EdgeTrial startTrial(const Candidate& c, double halfLength) {
 }
 
 // Runs the passes of @p tr up to (not including) @p untilPass; sets done and result at the end.
-void runTrial(const Luma8& img, const Bounds& b, const BlurOptions& o, EdgeTrial& tr,
-              int untilPass) {
+void runTrial(const Luma8& img, const Bounds& b, const BlurOptions& o, const Kernels& k,
+              EdgeTrial& tr, int untilPass) {
     Patch& patch = tr.patch;
     double& straight = tr.straight;
     const double threshold = tr.threshold;
@@ -424,7 +495,7 @@ void runTrial(const Luma8& img, const Bounds& b, const BlurOptions& o, EdgeTrial
         // its derivative lies well inside the first slab, which already located it.
         const int refits = pass == 0 ? 2 : (pass == 1 && tr.sharp ? 0 : 1);
         for (int it = 0; it < refits; ++it) {
-            straight = refineGeometry(img, b, patch, threshold);
+            straight = refineGeometry(img, b, k, patch, threshold);
             if (straight < 0.0) return finish(std::nullopt);
         }
         thread_local std::vector<Bin> bins;
@@ -508,7 +579,8 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
         options.edgeHalfLengthPx > 0
             ? options.edgeHalfLengthPx
             : std::clamp(0.25 * std::min(r.x1 - r.x0, r.y1 - r.y0), 8.0, 48.0);
-    std::vector<Candidate> cands = findCandidates(luma, r, options, 64);
+    const Kernels kernels = chooseKernels(options);
+    std::vector<Candidate> cands = findCandidates(luma, r, options, kernels, 64);
     std::vector<Patch> used;
     int attempts = 0;
     for (const Candidate& c : cands) {
@@ -534,7 +606,7 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
         int first = nLengths;  // trials[first..nLengths) were probed
         for (int j = nLengths - 1; j >= 0; --j) {
             trials[j] = startTrial(c, lengths[j]);
-            runTrial(luma, sb, options, trials[j], 1);
+            runTrial(luma, sb, options, kernels, trials[j], 1);
             first = j;
             // Stop at a segment that is already bent: noise, a failed fit or too few edge
             // slices (at a border) on a short segment say little about a longer one, bending does.
@@ -553,7 +625,7 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
         EdgeTrial* pick = nullptr;
         for (int j = first; j < nLengths; ++j) {
             EdgeTrial& tr = trials[j];
-            if (!tr.done && tr.provisional > 0.3) runTrial(luma, sb, options, tr, 6);
+            if (!tr.done && tr.provisional > 0.3) runTrial(luma, sb, options, kernels, tr, 6);
             if (tr.done) {
                 consider(tr);
                 if (best && best->quality > 0.3) break;
@@ -562,7 +634,7 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
             }
         }
         if (!(best && best->quality > 0.3) && pick) {
-            runTrial(luma, sb, options, *pick, 6);
+            runTrial(luma, sb, options, kernels, *pick, 6);
             consider(*pick);
         }
         used.push_back(bestPatch);

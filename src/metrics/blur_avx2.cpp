@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: MIT
+// AVX2 pixel kernels of the blur-width engine: the same arithmetic as the generic versions in
+// blur.cpp, 8 or 16 pixels at a time. This file alone is compiled with -mavx2; blur.cpp calls it
+// only after a run-time CPU check.
+#include <immintrin.h>
+
+#include <algorithm>
+
+#include "blur_kernels.h"
+
+namespace infocus::detail {
+
+namespace {
+
+inline __m256i widen16(const uint8_t* p) {
+    return _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)));
+}
+
+inline __m256 widen8f(const uint8_t* p) {
+    return _mm256_cvtepi32_ps(
+        _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
+}
+
+}  // namespace
+
+void sobelRowAvx2(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x0, int n, int16_t* gx,
+                  int16_t* gy) {
+    int i = 0;
+    // 16 pixels per step: |gx|, |gy| ≤ 1020 fit int16. Loads reach x + 16, inside the row.
+    for (; i + 16 <= n; i += 16) {
+        const int x = x0 + i;
+        const __m256i al = widen16(a + x - 1), ac = widen16(a + x), ar = widen16(a + x + 1);
+        const __m256i ml = widen16(m + x - 1), mr = widen16(m + x + 1);
+        const __m256i cl = widen16(c + x - 1), cc = widen16(c + x), cr = widen16(c + x + 1);
+        const __m256i dx =
+            _mm256_add_epi16(_mm256_add_epi16(_mm256_sub_epi16(ar, al), _mm256_sub_epi16(cr, cl)),
+                             _mm256_slli_epi16(_mm256_sub_epi16(mr, ml), 1));
+        const __m256i dy =
+            _mm256_add_epi16(_mm256_add_epi16(_mm256_sub_epi16(cl, al), _mm256_sub_epi16(cr, ar)),
+                             _mm256_slli_epi16(_mm256_sub_epi16(cc, ac), 1));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(gx + i), dx);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(gy + i), dy);
+    }
+    if (i < n) sobelRowGeneric(a, m, c, x0 + i, n - i, gx + i, gy + i);
+}
+
+void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, int width,
+                      const GeometryPatch& g, float* acc) {
+    const __m256 vnx = _mm256_set1_ps(g.nx), vny = _mm256_set1_ps(g.ny);
+    const __m256 half = _mm256_set1_ps(0.5f), quarter = _mm256_set1_ps(0.25f);
+    const __m256 vthr = _mm256_set1_ps(g.thr), vhl = _mm256_set1_ps(g.hl);
+    const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i top = _mm256_set1_epi32(g.slices - 1);
+    for (int k = 0; k < count; ++k) {
+        const GeometrySpan& sp = spans[k];
+        const uint8_t* r = sp.r;
+        const int x0 = sp.x0, x1 = sp.x1;
+        const __m256 vu0 = _mm256_set1_ps(sp.u0), vt0 = _mm256_set1_ps(sp.t0);
+        const __m256i end = _mm256_set1_epi32(x1 - x0 + 1);
+        int x = x0;
+        // 8 pixels per step while the loads (up to x + 8 in this row and the next) stay inside
+        // the image's rows; lanes past x1 add zeros.
+        for (; x <= x1 && x + 8 < width; x += 8) {
+            const __m256i idx = _mm256_add_epi32(_mm256_set1_epi32(x - x0), iota);
+            const __m256 dx = _mm256_sub_ps(widen8f(r + x + 1), widen8f(r + x - 1));
+            const __m256 dy = _mm256_sub_ps(widen8f(r + x + stride), widen8f(r + x - stride));
+            // Same operations and order as the generic kernel, so the same rounding (no FMA).
+            const __m256 d =
+                _mm256_mul_ps(half, _mm256_add_ps(_mm256_mul_ps(dx, vnx), _mm256_mul_ps(dy, vny)));
+            const __m256 pass = _mm256_and_ps(_mm256_cmp_ps(d, vthr, _CMP_GT_OQ),
+                                              _mm256_castsi256_ps(_mm256_cmpgt_epi32(end, idx)));
+            if (_mm256_testz_ps(pass, pass)) continue;
+            const __m256 fi = _mm256_cvtepi32_ps(idx);
+            const __m256 w = _mm256_and_ps(pass, _mm256_sub_ps(d, vthr));
+            const __m256 u = _mm256_add_ps(vu0, _mm256_mul_ps(vnx, fi));
+            const __m256 t = _mm256_sub_ps(vt0, _mm256_mul_ps(vny, fi));
+            const __m256 wu = _mm256_mul_ps(w, u), wt = _mm256_mul_ps(w, t);
+            __m256i s = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_add_ps(t, vhl), quarter));
+            s = _mm256_max_epi32(_mm256_setzero_si256(), _mm256_min_epi32(s, top));
+            // t is linear along the row, so the lanes' slices run from the first lane's to the
+            // last's: one to three of them.
+            const int sa = _mm256_extract_epi32(s, 0), sb = _mm256_extract_epi32(s, 7);
+            for (int q = std::min(sa, sb); q <= std::max(sa, sb); ++q) {
+                const __m256 m = _mm256_castsi256_ps(_mm256_cmpeq_epi32(s, _mm256_set1_epi32(q)));
+                float* a = acc + 3 * kGeometryLanes * q;
+                _mm256_storeu_ps(a, _mm256_add_ps(_mm256_loadu_ps(a), _mm256_and_ps(m, w)));
+                _mm256_storeu_ps(a + 8,
+                                 _mm256_add_ps(_mm256_loadu_ps(a + 8), _mm256_and_ps(m, wu)));
+                _mm256_storeu_ps(a + 16,
+                                 _mm256_add_ps(_mm256_loadu_ps(a + 16), _mm256_and_ps(m, wt)));
+            }
+        }
+        // The last pixels of the image's last columns: the generic arithmetic, in the same lanes.
+        if (x <= x1) geometryPixels(r, stride, x0, x, x1, sp.u0, sp.t0, g, acc);
+    }
+}
+
+}  // namespace infocus::detail
