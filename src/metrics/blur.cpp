@@ -319,20 +319,33 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
     for (int iter = 0; iter < 6; ++iter) {
         const double wl = mu - radius, wr = mu + radius;
         // Plateau levels: mean over up to 2 px just outside the window (or the outermost bin).
+        // The bins are in ascending position: the window's ends by bisection, then only the
+        // plateau bins are visited (left before right, as a full scan would add them).
         double sl = 0, nl = 0, sr = 0, nr = 0, pv = 0, npv = 0;
-        size_t il = 0, ir = bins.size() - 1;
-        for (size_t i = 0; i < bins.size(); ++i) {
-            const Bin& b = bins[i];
-            if (b.pos <= wl && b.pos > wl - kPlateauPx) {
+        const auto byPos = [](const Bin& b, double v) { return b.pos < v; };
+        // First bin right of wl (pos > wl), first bin at or right of wr.
+        const size_t afterL =
+            static_cast<size_t>(std::partition_point(bins.begin(), bins.end(),
+                                                     [&](const Bin& b) { return b.pos <= wl; }) -
+                                bins.begin());
+        const size_t atR = static_cast<size_t>(
+            std::lower_bound(bins.begin(), bins.end(), wr, byPos) - bins.begin());
+        size_t il = afterL > 0 ? afterL - 1 : 0;
+        size_t ir = std::min(atR, bins.size() - 1);
+        {
+            size_t i = afterL;
+            while (i > 0 && bins[i - 1].pos > wl - kPlateauPx)
+                --i;
+            for (; i < afterL; ++i) {
+                const Bin& b = bins[i];
                 sl += b.value * b.count, nl += b.count;
                 pv += b.pixelVar * b.count, npv += b.count;
             }
-            if (b.pos >= wr && b.pos < wr + kPlateauPx) {
-                sr += b.value * b.count, nr += b.count;
-                pv += b.pixelVar * b.count, npv += b.count;
-            }
-            if (b.pos <= wl) il = i;
-            if (b.pos >= wr && ir == bins.size() - 1 && i < ir) ir = i;
+        }
+        for (size_t i = atR; i < bins.size() && bins[i].pos < wr + kPlateauPx; ++i) {
+            const Bin& b = bins[i];
+            sr += b.value * b.count, nr += b.count;
+            pv += b.pixelVar * b.count, npv += b.count;
         }
         if (wl < first) il = 0;
         if (wr > last) ir = bins.size() - 1;
