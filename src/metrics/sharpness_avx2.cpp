@@ -189,24 +189,25 @@ constexpr int kFloatRows = 4;
 // i64 every 128 rows, before it can overflow.
 template <bool Variance>
 void tengStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256d& sqd,
-                 __m256i& si) {
-    const __m256i zero = _mm256_setzero_si256();
+                 __m256i& siOut) {
     const RowTerms32 r0 = rowTerms32(img.row(y0 - 1), x);
-    RowTerms32 r1 = rowTerms32(img.row(y0), x);
-    __m256i se0 = r0.se, so0 = r0.so;
-    __m256i te = _mm256_add_epi16(r0.he, r1.he), to = _mm256_add_epi16(r0.ho, r1.ho);
-    __m256i acc32 = zero;
+    const RowTerms32 r1 = rowTerms32(img.row(y0), x);
+    // Σ I takes each row as it is loaded (rows y0 … y1, the last one taken back at the end), so
+    // no row's raw bytes stay live across iterations: 16 registers hold the rest without spills.
+    __m256i si = _mm256_sad_epu8(r1.centre, _mm256_setzero_si256());
+    __m256i se0 = r0.se, so0 = r0.so, se1 = r1.se, so1 = r1.so, he1 = r1.he, ho1 = r1.ho;
+    __m256i te = _mm256_add_epi16(r0.he, he1), to = _mm256_add_epi16(r0.ho, ho1);
+    __m256i acc32 = _mm256_setzero_si256();
     __m256 sqf = _mm256_setzero_ps();
     int rows = 0;
     for (int y = y0; y < y1; ++y) {
         const RowTerms32 r2 = rowTerms32(img.row(y + 1), x);
-        si = _mm256_add_epi64(si, _mm256_sad_epu8(r1.centre, zero));
-        const __m256i te2 = _mm256_add_epi16(r1.he, r2.he), to2 = _mm256_add_epi16(r1.ho, r2.ho);
+        si = _mm256_add_epi64(si, _mm256_sad_epu8(r2.centre, _mm256_setzero_si256()));
+        const __m256i te2 = _mm256_add_epi16(he1, r2.he), to2 = _mm256_add_epi16(ho1, r2.ho);
         addGradient<Variance>(_mm256_add_epi16(te, te2), _mm256_sub_epi16(r2.se, se0), acc32, sqf);
         addGradient<Variance>(_mm256_add_epi16(to, to2), _mm256_sub_epi16(r2.so, so0), acc32, sqf);
-        se0 = r1.se, so0 = r1.so;
+        se0 = se1, so0 = so1, se1 = r2.se, so1 = r2.so, he1 = r2.he, ho1 = r2.ho;
         te = te2, to = to2;
-        r1 = r2;
         ++rows;
         if (Variance && rows % kFloatRows == 0) {
             sqd = addAsDouble(sqd, sqf);
@@ -214,12 +215,14 @@ void tengStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256
         }
         if (rows == 128) {
             acc64 = widenAdd(acc64, acc32);
-            acc32 = zero;
+            acc32 = _mm256_setzero_si256();
             rows = 0;
         }
     }
     acc64 = widenAdd(acc64, acc32);
     if constexpr (Variance) sqd = addAsDouble(sqd, sqf);
+    si = _mm256_sub_epi64(si, _mm256_sad_epu8(load(img.row(y1) + x), _mm256_setzero_si256()));
+    siOut = _mm256_add_epi64(siOut, si);
 }
 
 inline __m256i load16(const uint8_t* p) {
@@ -230,7 +233,8 @@ inline __m256i load16(const uint8_t* p) {
 // pixels before x + skip are left out (the overlapping last strip of a region).
 template <bool Variance, bool Masked>
 void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc64, __m256d& sqd,
-                 __m128i& si) {
+                 __m128i& siOut) {
+    __m128i si = _mm_setzero_si128();
     const auto terms = [&](const uint8_t* p, __m256i& h, __m256i& s) {
         const __m256i l = load16(p + x - 1), m = load16(p + x), r = load16(p + x + 1);
         h = _mm256_sub_epi16(r, l);
@@ -272,6 +276,7 @@ void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc
     }
     acc64 = widenAdd(acc64, acc32);
     if constexpr (Variance) sqd = addAsDouble(sqd, sqf);
+    siOut = _mm_add_epi64(siOut, si);
 }
 
 // The pixel-local operators walked down 16-column strips in natural order: LAPM
@@ -281,7 +286,9 @@ void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc
 enum class LocalOp { Lapm, Brenner, Glvn };
 
 template <LocalOp Op, bool Masked>
-void localStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc64, __m128i& si) {
+void localStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc64,
+                  __m128i& siOut) {
+    __m128i si = _mm_setzero_si128();
     const __m128i mask8 = _mm256_castsi256_si128(tailMask(skip));
     const __m256i mask16 = _mm256_cvtepi8_epi16(mask8);
     const __m256i ones = _mm256_set1_epi16(1);
@@ -328,6 +335,7 @@ void localStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& ac
         }
     }
     acc64 = widenAdd(acc64, acc32);
+    siOut = _mm_add_epi64(siOut, si);
 }
 
 // LAPM and Brenner over columns x … x+31 in the even/odd layout of rowTerms32: the centre row
@@ -335,7 +343,8 @@ void localStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& ac
 // plain load, so the rows kept for the vertical terms cost two operations each. Widened like
 // localStrip16.
 template <LocalOp Op>
-void localStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256i& si) {
+void localStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256i& siOut) {
+    __m256i si = _mm256_setzero_si256();
     const __m256i zero = _mm256_setzero_si256(), ones = _mm256_set1_epi16(1);
     const __m256i lowByte = _mm256_set1_epi16(0x00ff);
     const auto evenOf = [&](__m256i v) { return _mm256_and_si256(v, lowByte); };
@@ -392,6 +401,7 @@ void localStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m25
         }
     }
     acc64 = widenAdd(acc64, acc32);
+    siOut = _mm256_add_epi64(siOut, si);
 }
 
 constexpr int kL1Bytes = 32 * 1024;
