@@ -641,7 +641,21 @@ DctSums simdDctSums(const Luma8& img, const Rect& a) {
             // Row transforms, one lane per block: coefficient (u, v) is row term u of column
             // term v. Needed: (1..3, 0), (0..2, 1), (0..1, 2), (0, 3); (0, 0) is the block sum.
             __m256 a32 = _mm256_setzero_ps(), b16 = a32;
-            for (int v = 0; v < 4; ++v) {
+            // Column term 3 needs only row term 0, the sum of each block's 8 values: a tree
+            // of horizontal adds instead of a transpose.
+            {
+                const float* c3 = buf[3];
+                const auto pair = [&](int b) {
+                    return _mm256_hadd_ps(_mm256_load_ps(c3 + 8 * b),
+                                          _mm256_load_ps(c3 + 8 * b + 8));
+                };
+                const __m256 g0 = _mm256_hadd_ps(pair(0), pair(2));
+                const __m256 g1 = _mm256_hadd_ps(pair(4), pair(6));
+                const __m256 u0 = _mm256_add_ps(_mm256_permute2f128_ps(g0, g1, 0x20),
+                                                _mm256_permute2f128_ps(g0, g1, 0x31));
+                a32 = _mm256_fmadd_ps(u0, u0, a32);
+            }
+            for (int v = 0; v < 3; ++v) {
                 __m256 r[8];
                 for (int b = 0; b < 8; ++b)
                     r[b] = _mm256_load_ps(buf[v] + 8 * b);
@@ -660,7 +674,6 @@ DctSums simdDctSums(const Luma8& img, const Rect& a) {
                 } else {
                     a32 = _mm256_fmadd_ps(u0, u0, a32);
                 }
-                if (v == 3) continue;
                 const Terms t = terms(_mm256_sub_ps(s[0], s[3]), _mm256_sub_ps(s[1], s[2]), d);
                 if (v == 0) {
                     a32 = _mm256_fmadd_ps(t.t1, t.t1, a32);
