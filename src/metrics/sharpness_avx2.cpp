@@ -119,24 +119,6 @@ void sums(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumSq) {
     sumSq = sum64(acc64);
 }
 
-// Scalar sums for regions narrower than one vector.
-void lapvScalar(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumL2) {
-    sumI = sumL2 = 0;
-    for (int y = a.y; y < a.y + a.h; ++y) {
-        const uint8_t *c = img.row(y), *u = img.row(y - 1), *d = img.row(y + 1);
-        for (int x = a.x; x < a.x + a.w; ++x) {
-            const int v = u[x] + d[x] + c[x - 1] + c[x + 1] - 4 * c[x];
-            sumL2 += v * v;
-            sumI += c[x];
-        }
-    }
-}
-
-void lapvSumsAvx2(const Luma8& img, const Rect& a, int64_t& sumI, int64_t& sumL2) {
-    if (a.w < 32) return lapvScalar(img, a, sumI, sumL2);
-    sums<lapvStep<false>, lapvStep<true>>(img, a, sumI, sumL2);
-}
-
 // The Sobel separates into per-row terms h = right − left and s = left + 2·middle + right:
 // Gx = h(y−1) + 2·h(y) + h(y+1) and Gy = s(y+1) − s(y−1). The TENG kernel walks down vertical
 // strips of a region keeping the terms of the rows above in registers, so each image row of a
@@ -184,6 +166,38 @@ inline void addGradient(__m256i gx, __m256i gy, __m256i& acc32, __m256& sqf) {
 // float additions at most.
 constexpr int kFloatRows = 4;
 
+// The running sums of one strip, kept by value so that they stay in registers: i32 lanes
+// widened into i64 every 128 rows (no strip kernel adds more than 8·1020² to a lane per row, so
+// none can overflow before), and with Squares the float squares moved into doubles every
+// kFloatRows rows. Call endRow() after each row and addTo() once at the end.
+template <bool Squares>
+struct StripSums {
+    __m256i acc32 = _mm256_setzero_si256(), acc64 = _mm256_setzero_si256();
+    __m256 sqf = _mm256_setzero_ps();
+    __m256d sqd = _mm256_setzero_pd();
+    int rows = 0;
+
+    void endRow() {
+        ++rows;
+        if constexpr (Squares) {
+            if (rows % kFloatRows == 0) {
+                sqd = addAsDouble(sqd, sqf);
+                sqf = _mm256_setzero_ps();
+            }
+        }
+        if (rows == 128) {
+            acc64 = widenAdd(acc64, acc32);
+            acc32 = _mm256_setzero_si256();
+            rows = 0;
+        }
+    }
+    // Adds the strip's sums to the caller's (@p squares with Squares only).
+    void addTo(__m256i& sum64, __m256d* squares) const {
+        sum64 = _mm256_add_epi64(sum64, widenAdd(acc64, acc32));
+        if constexpr (Squares) *squares = _mm256_add_pd(*squares, addAsDouble(sqd, sqf));
+    }
+};
+
 // Σ I and Σ (Gx² + Gy²) of the unscaled Sobel over columns x … x+31 of rows y0 … y1−1 (with
 // Variance also Σ (Gx² + Gy²)²). A lane of the i32 sum gains at most 8·1020² per row: widened to
 // i64 every 128 rows, before it can overflow.
@@ -197,30 +211,20 @@ void tengStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m256
     __m256i si = _mm256_sad_epu8(r1.centre, _mm256_setzero_si256());
     __m256i se0 = r0.se, so0 = r0.so, se1 = r1.se, so1 = r1.so, he1 = r1.he, ho1 = r1.ho;
     __m256i te = _mm256_add_epi16(r0.he, he1), to = _mm256_add_epi16(r0.ho, ho1);
-    __m256i acc32 = _mm256_setzero_si256();
-    __m256 sqf = _mm256_setzero_ps();
-    int rows = 0;
+    StripSums<Variance> sums;
     for (int y = y0; y < y1; ++y) {
         const RowTerms32 r2 = rowTerms32(img.row(y + 1), x);
         si = _mm256_add_epi64(si, _mm256_sad_epu8(r2.centre, _mm256_setzero_si256()));
         const __m256i te2 = _mm256_add_epi16(he1, r2.he), to2 = _mm256_add_epi16(ho1, r2.ho);
-        addGradient<Variance>(_mm256_add_epi16(te, te2), _mm256_sub_epi16(r2.se, se0), acc32, sqf);
-        addGradient<Variance>(_mm256_add_epi16(to, to2), _mm256_sub_epi16(r2.so, so0), acc32, sqf);
+        addGradient<Variance>(_mm256_add_epi16(te, te2), _mm256_sub_epi16(r2.se, se0), sums.acc32,
+                              sums.sqf);
+        addGradient<Variance>(_mm256_add_epi16(to, to2), _mm256_sub_epi16(r2.so, so0), sums.acc32,
+                              sums.sqf);
         se0 = se1, so0 = so1, se1 = r2.se, so1 = r2.so, he1 = r2.he, ho1 = r2.ho;
         te = te2, to = to2;
-        ++rows;
-        if (Variance && rows % kFloatRows == 0) {
-            sqd = addAsDouble(sqd, sqf);
-            sqf = _mm256_setzero_ps();
-        }
-        if (rows == 128) {
-            acc64 = widenAdd(acc64, acc32);
-            acc32 = _mm256_setzero_si256();
-            rows = 0;
-        }
+        sums.endRow();
     }
-    acc64 = widenAdd(acc64, acc32);
-    if constexpr (Variance) sqd = addAsDouble(sqd, sqf);
+    sums.addTo(acc64, &sqd);
     si = _mm256_sub_epi64(si, _mm256_sad_epu8(load(img.row(y1) + x), _mm256_setzero_si256()));
     siOut = _mm256_add_epi64(siOut, si);
 }
@@ -246,9 +250,7 @@ void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc
     terms(img.row(y0 - 1), h0, s0);
     terms(img.row(y0), h1, s1);
     __m256i t = _mm256_add_epi16(h0, h1);
-    __m256i acc32 = _mm256_setzero_si256();
-    __m256 sqf = _mm256_setzero_ps();
-    int rows = 0;
+    StripSums<Variance> sums;
     for (int y = y0; y < y1; ++y) {
         __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(img.row(y) + x));
         if constexpr (Masked) c = _mm_and_si128(c, mask8);
@@ -261,21 +263,11 @@ void tengStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& acc
             gx = _mm256_and_si256(gx, mask16);
             gy = _mm256_and_si256(gy, mask16);
         }
-        addGradient<Variance>(gx, gy, acc32, sqf);
+        addGradient<Variance>(gx, gy, sums.acc32, sums.sqf);
         s0 = s1, s1 = s2, h1 = h2, t = t2;
-        ++rows;
-        if (Variance && rows % kFloatRows == 0) {
-            sqd = addAsDouble(sqd, sqf);
-            sqf = _mm256_setzero_ps();
-        }
-        if (rows == 128) {
-            acc64 = widenAdd(acc64, acc32);
-            acc32 = _mm256_setzero_si256();
-            rows = 0;
-        }
+        sums.endRow();
     }
-    acc64 = widenAdd(acc64, acc32);
-    if constexpr (Variance) sqd = addAsDouble(sqd, sqf);
+    sums.addTo(acc64, &sqd);
     siOut = _mm_add_epi64(siOut, si);
 }
 
@@ -292,12 +284,11 @@ void localStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& ac
     const __m128i mask8 = _mm256_castsi256_si128(tailMask(skip));
     const __m256i mask16 = _mm256_cvtepi8_epi16(mask8);
     const __m256i ones = _mm256_set1_epi16(1);
-    __m256i acc32 = _mm256_setzero_si256();
+    StripSums<false> sums;
     // Centre values of rows y − 1 (LAPM), y and y + 1.
     __m256i mPrev = Op == LocalOp::Lapm ? load16(img.row(y0 - 1) + x) : ones;
     __m256i mCur = load16(img.row(y0) + x);
     __m256i mNext = Op == LocalOp::Glvn ? ones : load16(img.row(y0 + 1) + x);
-    int rows = 0;
     for (int y = y0; y < y1; ++y) {
         __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(img.row(y) + x));
         if constexpr (Masked) c = _mm_and_si128(c, mask8);
@@ -305,7 +296,7 @@ void localStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& ac
         __m256i v;
         if constexpr (Op == LocalOp::Glvn) {
             v = _mm256_cvtepu8_epi16(c);
-            acc32 = _mm256_add_epi32(acc32, _mm256_madd_epi16(v, v));
+            sums.acc32 = _mm256_add_epi32(sums.acc32, _mm256_madd_epi16(v, v));
         } else if constexpr (Op == LocalOp::Lapm) {
             const uint8_t* p = img.row(y) + x;
             const __m256i c2 = _mm256_add_epi16(mCur, mCur);
@@ -314,7 +305,7 @@ void localStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& ac
             const __m256i w = _mm256_sub_epi16(c2, _mm256_add_epi16(mPrev, mBelow));
             v = _mm256_add_epi16(_mm256_abs_epi16(h), _mm256_abs_epi16(w));
             if constexpr (Masked) v = _mm256_and_si256(v, mask16);
-            acc32 = _mm256_add_epi32(acc32, _mm256_madd_epi16(v, ones));
+            sums.acc32 = _mm256_add_epi32(sums.acc32, _mm256_madd_epi16(v, ones));
             mPrev = mCur, mCur = mBelow;
         } else {
             const __m256i mTwoBelow = load16(img.row(y + 2) + x);
@@ -324,17 +315,13 @@ void localStrip16(const Luma8& img, int x, int y0, int y1, int skip, __m256i& ac
                 h = _mm256_and_si256(h, mask16);
                 w = _mm256_and_si256(w, mask16);
             }
-            acc32 = _mm256_add_epi32(
-                acc32, _mm256_add_epi32(_mm256_madd_epi16(h, h), _mm256_madd_epi16(w, w)));
+            sums.acc32 = _mm256_add_epi32(
+                sums.acc32, _mm256_add_epi32(_mm256_madd_epi16(h, h), _mm256_madd_epi16(w, w)));
             mCur = mNext, mNext = mTwoBelow;
         }
-        if (++rows == 128) {
-            acc64 = widenAdd(acc64, acc32);
-            acc32 = _mm256_setzero_si256();
-            rows = 0;
-        }
+        sums.endRow();
     }
-    acc64 = widenAdd(acc64, acc32);
+    sums.addTo(acc64, nullptr);
     siOut = _mm_add_epi64(siOut, si);
 }
 
@@ -360,8 +347,7 @@ void localStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m25
         eNext = evenOf(n), oNext = oddOf(n);
     }
     __m256i eCur = evenOf(cCur), oCur = oddOf(cCur);
-    __m256i acc32 = zero;
-    int rows = 0;
+    StripSums<false> sums;
     for (int y = y0; y < y1; ++y) {
         si = _mm256_add_epi64(si, _mm256_sad_epu8(cCur, zero));
         const uint8_t* p = img.row(y) + x;
@@ -378,7 +364,7 @@ void localStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m25
             const __m256i sum =
                 _mm256_add_epi16(_mm256_add_epi16(_mm256_abs_epi16(hE), _mm256_abs_epi16(hO)),
                                  _mm256_add_epi16(_mm256_abs_epi16(vE), _mm256_abs_epi16(vO)));
-            acc32 = _mm256_add_epi32(acc32, _mm256_madd_epi16(sum, ones));
+            sums.acc32 = _mm256_add_epi32(sums.acc32, _mm256_madd_epi16(sum, ones));
             ePrev = eCur, oPrev = oCur, eCur = eBelow, oCur = oBelow, cCur = cBelow;
         } else {
             const __m256i cTwoBelow = load(img.row(y + 2) + x);
@@ -387,20 +373,16 @@ void localStrip32(const Luma8& img, int x, int y0, int y1, __m256i& acc64, __m25
             const __m256i hE = _mm256_sub_epi16(evenOf(right2), eCur);
             const __m256i hO = _mm256_sub_epi16(oddOf(right2), oCur);
             const __m256i vE = _mm256_sub_epi16(eTwo, eCur), vO = _mm256_sub_epi16(oTwo, oCur);
-            acc32 = _mm256_add_epi32(
-                acc32, _mm256_add_epi32(_mm256_madd_epi16(hE, hE), _mm256_madd_epi16(hO, hO)));
-            acc32 = _mm256_add_epi32(
-                acc32, _mm256_add_epi32(_mm256_madd_epi16(vE, vE), _mm256_madd_epi16(vO, vO)));
+            sums.acc32 = _mm256_add_epi32(
+                sums.acc32, _mm256_add_epi32(_mm256_madd_epi16(hE, hE), _mm256_madd_epi16(hO, hO)));
+            sums.acc32 = _mm256_add_epi32(
+                sums.acc32, _mm256_add_epi32(_mm256_madd_epi16(vE, vE), _mm256_madd_epi16(vO, vO)));
             cCur = load(img.row(y + 1) + x);
             eCur = eNext, oCur = oNext, eNext = eTwo, oNext = oTwo;
         }
-        if (++rows == 128) {
-            acc64 = widenAdd(acc64, acc32);
-            acc32 = zero;
-            rows = 0;
-        }
+        sums.endRow();
     }
-    acc64 = widenAdd(acc64, acc32);
+    sums.addTo(acc64, nullptr);
     siOut = _mm256_add_epi64(siOut, si);
 }
 
@@ -541,7 +523,8 @@ bool simdSums(const Luma8& img, const Rect& a, FocusOperator op, OperatorSums& o
     int64_t sumI = 0, sumA = 0, sumA2 = 0;
     switch (op) {
         case FocusOperator::Lapv: {
-            lapvSumsAvx2(img, a, sumI, sumA2);
+            if (a.w < 32) return false;
+            sums<lapvStep<false>, lapvStep<true>>(img, a, sumI, sumA2);
             // Σ L telescopes: per column (top-outside − last + below-last − first), likewise per
             // row.
             const int x0 = a.x, y0 = a.y, x1 = a.x + a.w, y1 = a.y + a.h;
