@@ -17,10 +17,10 @@ struct BlurOptions {
     int maxEdges = 4;       ///< edge segments measured per region (more: slower, steadier)
     int candidateStep = 2;  ///< grid step (px) of the cheap gradient that finds edges
     /// Half-length of each edge segment along the edge, px; 0: a quarter of the region's
-    /// smaller side, clamped to 8..48.
+    /// smaller side, clamped to 8..48; at most 500.
     double edgeHalfLengthPx = 0;
-    double maxHalfWidthPx = 64;     ///< largest half-width sampled across an edge (caps the blur)
-    double binPx = 0.25;            ///< ESF bin width across the edge (slanted-edge oversampling)
+    double maxHalfWidthPx = 64;  ///< largest half-width sampled across an edge (caps the blur)
+    double binPx = 0.25;  ///< ESF bin width across the edge (slanted-edge oversampling), 1/16..1
     double minContrast = 12.0;      ///< grey levels between the two sides for an edge to count
     double minGradient = 1.0;       ///< grey levels per pixel for an edge candidate
     double relativeGradient = 0.3;  ///< candidates need ≥ this fraction of the region's peak

@@ -34,6 +34,11 @@ void geometryRowsGeneric(const GeometrySpan* spans, int count, ptrdiff_t stride,
     }
 }
 
+void esfRowsGeneric(const GeometrySpan* spans, int count, int, const EsfPatch& e, uint32_t* acc) {
+    for (int k = 0; k < count; ++k)
+        esfPixels(spans[k].r, spans[k].x0, spans[k].x0, spans[k].x1, spans[k].u0, e, acc);
+}
+
 }  // namespace detail
 
 namespace {
@@ -47,8 +52,6 @@ constexpr double kGaussianRisePerSigma = 2.5631;
 constexpr double kClipLow = 3.0, kClipHigh = 252.0;
 // Segment lengths tried per seed (halved from the longest down to 6 px: 48 → 6 is 4).
 constexpr int kMaxLengths = 8;
-// σ (px, of the first, narrow fit) below which a widened patch keeps the fitted geometry.
-constexpr double kRefitSigmaPx = 1.5;
 // Half-width of the window in which the reported line-spread variance is taken, in its σ, and the
 // contrast-to-spread ratio above which the spread beside an edge counts as noise (fitEsf).
 constexpr double kMomentSigmas = 3.0, kCleanCnr = 20.0;
@@ -126,11 +129,13 @@ void forEachRow(const Patch& p, const Bounds& b, Fn&& fn) {
 struct Kernels {
     decltype(&detail::sobelRowGeneric) sobelRow;
     decltype(&detail::geometryRowsGeneric) geometryRows;
+    decltype(&detail::esfRowsGeneric) esfRows;
 };
 
 Kernels chooseKernels(const BlurOptions& o) {
-    if (o.simd && detail::haveAvx2()) return {detail::sobelRowAvx2, detail::geometryRowsAvx2};
-    return {detail::sobelRowGeneric, detail::geometryRowsGeneric};
+    if (o.simd && detail::haveAvx2())
+        return {detail::sobelRowAvx2, detail::geometryRowsAvx2, detail::esfRowsAvx2};
+    return {detail::sobelRowGeneric, detail::geometryRowsGeneric, detail::esfRowsGeneric};
 }
 
 // Edge candidates: a Sobel gradient (grey levels per pixel) on a sparse grid of the region,
@@ -194,70 +199,97 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
     return out;
 }
 
-// Moves @p p onto the edge: a weighted line fit through the centroids of the directional
-// derivative in slices along the edge. Returns the RMS scatter of the centroids about the line
-// (px), or a negative value when too few slices carry an edge.
-double refineGeometry(const Luma8& img, const Bounds& b, const Kernels& k, Patch& p,
-                      double threshold) {
-    constexpr double kSlicePx = 4.0;
-    const int slices = std::max(3, static_cast<int>(std::ceil(2.0 * p.hl / kSlicePx)));
-    // The kernel sums w, w·u, w·t per slice in float partial sums (8 per slice, see
-    // blur_kernels.h), over the pixels whose directional derivative exceeds the threshold; they
-    // are added up here in double. Scratch reused across calls: no allocation per edge.
-    constexpr int kLanes = detail::kGeometryLanes;
-    thread_local std::vector<float> partial;
-    thread_local std::vector<double> scratch;
-    partial.assign(3 * kLanes * static_cast<size_t>(slices), 0.0f);
-    scratch.resize(3 * static_cast<size_t>(slices));
-    double* sw = scratch.data();
-    double* swu = sw + slices;
-    double* swt = swu + slices;
-    const detail::GeometryPatch g{static_cast<float>(p.nx), static_cast<float>(p.ny),
-                                  static_cast<float>(threshold), static_cast<float>(p.hl), slices};
-    // The rows first, then one kernel call for all of them.
+// The rows of @p p inside @p b as kernel spans, in scratch reused across calls.
+const std::vector<detail::GeometrySpan>& patchSpans(const Luma8& img, const Bounds& b,
+                                                    const Patch& p) {
     thread_local std::vector<detail::GeometrySpan> spans;
     spans.clear();
     forEachRow(p, b, [&](int y, int x0, int x1, double u0, double t0) {
         spans.push_back({img.row(y), x0, x1, static_cast<float>(u0), static_cast<float>(t0)});
     });
+    return spans;
+}
+
+// The directional derivative's moments in one slice along the edge: Σw, Σw·u, Σw·t, Σw·u².
+struct Slice {
+    double w, wu, wt, wuu;
+};
+
+// Fills @p out with the @p slices slices of @p p (equal widths along the edge) of the pixels whose
+// derivative along the normal exceeds @p threshold, weighted by the excess.
+void geometrySlices(const Luma8& img, const Bounds& b, const Kernels& k, const Patch& p,
+                    double threshold, int slices, Slice* out) {
+    // The kernel sums in float partial sums (8 per slice and moment, see blur_kernels.h); they are
+    // added up here in double. Scratch reused across calls: no allocation per edge.
+    constexpr int L = detail::kGeometryLanes, M = detail::kGeometryMoments;
+    thread_local std::vector<float> partial;
+    partial.assign(static_cast<size_t>(M) * L * slices, 0.0f);
+    const detail::GeometryPatch g{static_cast<float>(p.nx),
+                                  static_cast<float>(p.ny),
+                                  static_cast<float>(threshold),
+                                  static_cast<float>(p.hl),
+                                  slices,
+                                  static_cast<float>(slices / (2.0 * p.hl))};
+    const auto& spans = patchSpans(img, b, p);
     k.geometryRows(spans.data(), static_cast<int>(spans.size()), img.stride, img.width, g,
                    partial.data());
     for (int s = 0; s < slices; ++s) {
-        const float* a = partial.data() + 3 * kLanes * s;
-        double w = 0, wu = 0, wt = 0;
-        for (int l = 0; l < kLanes; ++l)
-            w += a[l], wu += a[kLanes + l], wt += a[2 * kLanes + l];
-        sw[s] = w, swu[s] = wu, swt[s] = wt;
+        const float* a = partial.data() + M * L * s;
+        double m[M] = {};
+        for (int j = 0; j < M; ++j)
+            for (int l = 0; l < L; ++l)
+                m[j] += a[j * L + l];
+        out[s] = {m[0], m[1], m[2], m[3]};
     }
-    // Weighted least squares e = a + b·t over the slice centroids (t_k, e_k), weights Σw.
-    double W = 0, St = 0, Se = 0, Stt = 0, Ste = 0;
+}
+
+// The edge as the line u = a + slope·t in a patch's coordinates, from slice centroids.
+struct LineFit {
+    bool ok = false;
+    double a = 0, slope = 0;
+    double straight = 0;  // RMS scatter of the centroids about the line, px
+    double spread2 = 0;   // the derivative's variance across the edge within a slice, px²
+};
+
+// Weighted least squares e = a + b·t through the centroids (t_k, e_k) of the @p n slices @p s,
+// weights Σw; needs three slices with an edge.
+LineFit fitLine(const Slice* s, int n) {
+    LineFit f;
+    double W = 0, St = 0, Se = 0, Stt = 0, Ste = 0, spread = 0;
     int used = 0;
-    for (int s = 0; s < slices; ++s) {
-        if (sw[s] <= 0.0) continue;
-        const double t = swt[s] / sw[s], e = swu[s] / sw[s], w = sw[s];
+    for (int i = 0; i < n; ++i) {
+        if (s[i].w <= 0.0) continue;
+        const double t = s[i].wt / s[i].w, e = s[i].wu / s[i].w, w = s[i].w;
         W += w, St += w * t, Se += w * e, Stt += w * t * t, Ste += w * t * e;
+        spread += s[i].wuu - e * s[i].wu;
         ++used;
     }
-    if (used < 3) return -1.0;
+    if (used < 3) return f;
     const double den = W * Stt - St * St;
-    if (den <= 1e-9) return -1.0;
-    const double slope = (W * Ste - St * Se) / den;
-    const double a = (Se - slope * St) / W;
+    if (den <= 1e-9) return f;
+    f.slope = (W * Ste - St * Se) / den;
+    f.a = (Se - f.slope * St) / W;
     double res = 0.0;
-    for (int s = 0; s < slices; ++s) {
-        if (sw[s] <= 0.0) continue;
-        const double t = swt[s] / sw[s], e = swu[s] / sw[s];
-        res += sw[s] * (e - a - slope * t) * (e - a - slope * t);
+    for (int i = 0; i < n; ++i) {
+        if (s[i].w <= 0.0) continue;
+        const double t = s[i].wt / s[i].w, e = s[i].wu / s[i].w;
+        res += s[i].w * (e - f.a - f.slope * t) * (e - f.a - f.slope * t);
     }
-    // The edge is the line u = a + slope·t: move the centre onto it and turn the normal by
-    // atan(slope) (n' ∝ n − slope·t̂).
-    p.cx += a * p.nx;
-    p.cy += a * p.ny;
-    const double nx = p.nx + slope * p.ny, ny = p.ny - slope * p.nx;
+    f.straight = std::sqrt(res / W);
+    f.spread2 = std::max(0.0, spread / W);
+    f.ok = true;
+    return f;
+}
+
+// Moves @p p onto the line @p f: the centre onto it, the normal turned by atan(slope)
+// (n' ∝ n − slope·t̂).
+void moveOnto(Patch& p, const LineFit& f) {
+    p.cx += f.a * p.nx;
+    p.cy += f.a * p.ny;
+    const double nx = p.nx + f.slope * p.ny, ny = p.ny - f.slope * p.nx;
     const double len = std::hypot(nx, ny);
     p.nx = nx / len;
     p.ny = ny / len;
-    return std::sqrt(res / W);
 }
 
 struct Bin {
@@ -431,141 +463,106 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
 }
 
 // Bins the pixels of @p p by their distance across the edge (the slanted-edge ESF) into @p bins.
-void sampleEsf(const Luma8& img, const Bounds& b, const Patch& p, double binPx,
+void sampleEsf(const Luma8& img, const Bounds& b, const Kernels& k, const Patch& p, double binPx,
                std::vector<Bin>& bins) {
     const int n = static_cast<int>(std::ceil(2.0 * p.hw / binPx));
-    // Grey-level sums in integers (exact); positions in double.
-    struct Acc {
-        double su, suu;
-        int64_t s2;
-        int32_t s, cnt;
-    };
-    // Scratch reused across calls: no allocation per edge.
-    thread_local std::vector<Acc> acc;
-    acc.assign(n, Acc{0.0, 0.0, 0, 0, 0});
-    const double inv = 1.0 / binPx;
-    forEachRow(p, b, [&](int y, int x0, int x1, double u0, double) {
-        const uint8_t* row = img.row(y);
-        for (int x = x0; x <= x1; ++x) {
-            const double u = u0 + p.nx * (x - x0);
-            const int k = static_cast<int>((u + p.hw) * inv);
-            if (k < 0 || k >= n) continue;
-            const int32_t v = row[x];
-            Acc& a = acc[k];
-            a.s += v, a.s2 += v * v, a.su += u, a.suu += u * u, ++a.cnt;
-        }
-    });
+    const auto bp = static_cast<float>(binPx);
+    const detail::EsfPatch e{
+        static_cast<float>(p.nx), static_cast<float>(p.hw), 1.0f / bp, bp, n, 2048.0f / bp};
+    // Four integer sums per bin and a spare one (see blur_kernels.h); scratch reused.
+    thread_local std::vector<uint32_t> acc;
+    acc.assign(4 * static_cast<size_t>(n + 1), 0u);
+    const auto& spans = patchSpans(img, b, p);
+    k.esfRows(spans.data(), static_cast<int>(spans.size()), img.width, e, acc.data());
     bins.clear();
-    for (int k = 0; k < n; ++k) {
-        const Acc& a = acc[k];
-        if (a.cnt == 0) continue;
-        const double m = a.su / a.cnt, v = static_cast<double>(a.s) / a.cnt;
-        bins.push_back({m, v, std::max(0.0, a.suu / a.cnt - m * m),
-                        std::max(0.0, static_cast<double>(a.s2) / a.cnt - v * v), a.cnt});
+    const double unit = binPx / 2048.0;
+    for (int i = 0; i < n; ++i) {
+        const uint32_t* a = acc.data() + 4 * i;
+        const auto cnt = static_cast<int>(a[0] >> detail::kEsfCountShift);
+        if (cnt == 0) continue;
+        const double sv = a[0] & ((1u << detail::kEsfCountShift) - 1u);
+        const double v = sv / cnt, d = static_cast<int32_t>(a[2]) * unit / cnt;
+        const double centre = (i + 0.5) * binPx - p.hw;
+        bins.push_back({centre + d, v, std::max(0.0, a[3] * unit * unit / cnt - d * d),
+                        std::max(0.0, static_cast<double>(a[1]) / cnt - v * v), cnt});
     }
 }
 
-// One edge measured from a seed at one segment length, in passes that widen the sampled patch
-// until the line spread fits. It can stop after the first (narrow, cheap) pass and resume later,
-// so that of several segment lengths only the promising one is widened.
-struct EdgeTrial {
-    Patch patch{};
-    double threshold = 0.0, straight = 0.0;
-    int pass = 0;
-    bool done = false;
-    std::optional<EdgeMeasurement> result;  // set when done and usable
-    // Quality from the first pass alone (no overshoot, σ of the truncated window): a guide to
-    // which segment length to widen, never reported.
-    double provisional = 0.0;
-    // Straightness share of the quality after the first pass (exp(−bend²), with the σ of the
-    // first fit where it has one): whether a longer segment is worth a probe.
-    double straightShare = 0.0;
-    bool sharp = false;  // the first fit found σ < kRefitSigmaPx
-};
+// Half-width (px) of the slab across the edge in which the geometry is first fitted.
+constexpr double kProbeHalfWidthPx = 6.0;
 
-EdgeTrial startTrial(const Candidate& c, double halfLength) {
-    EdgeTrial tr;
-    const double g = std::sqrt(c.mag2);
-    tr.patch = Patch{c.x + 0.5, c.y + 0.5, c.gx / g, c.gy / g, 6.0, halfLength};
-    tr.threshold = 0.2 * g;
-    return tr;
+// The measurement of the edge on @p patch from its ESF fit @p f.
+EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, double straight,
+                                const BlurOptions& o) {
+    EdgeMeasurement m;
+    m.cx = patch.cx + f.mean * patch.nx;
+    m.cy = patch.cy + f.mean * patch.ny;
+    m.angleDeg = std::atan2(patch.ny, patch.nx) * 180.0 / std::numbers::pi;
+    m.contrast = f.contrast;
+    m.noise = f.noise;
+    m.sigmaPx = std::sqrt(std::max(0.0, f.varCore - kPixelVariance));
+    m.riseRawPx = f.rise;
+    // The sampled rise includes the pixel area and the bins' own spread; remove them as Gaussian
+    // shares in quadrature (exact for a Gaussian PSF, close for a disc, whose rise per σ is 2.7482
+    // rather than 2.5631). Near 0° and 45° the ESF is sampled at whole-pixel spacing, too coarse
+    // to interpolate a crossing: there the Gaussian model's rise of the measured σ stands in.
+    const double floorRise2 =
+        kGaussianRisePerSigma * kGaussianRisePerSigma * (kPixelVariance + f.binVar);
+    const bool dense = f.binVar <= 2.0 * o.binPx * o.binPx / 6.0;
+    m.edgeWidthPx = dense ? std::sqrt(std::max(0.0, f.rise * f.rise - floorRise2))
+                          : kGaussianRisePerSigma * m.sigmaPx;
+    m.straightnessPx = straight;
+    const double sd = std::sqrt(std::max(f.varLsf, kPixelVariance));
+    const double cnr = f.contrast / std::max(f.noise, 0.5);
+    const double bend = straight / (0.3 + 0.25 * sd);
+    const double over = f.overshoot / 0.25;
+    m.quality = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend - over * over);
+    return m;
 }
 
-// Runs the passes of @p tr up to (not including) @p untilPass; sets done and result at the end.
-void runTrial(const Luma8& img, const Bounds& b, const BlurOptions& o, const Kernels& k,
-              EdgeTrial& tr, int untilPass) {
-    Patch& patch = tr.patch;
-    double& straight = tr.straight;
-    const double threshold = tr.threshold;
-    auto finish = [&](std::optional<EdgeMeasurement> m) {
-        tr.done = true;
-        tr.result = m;
-    };
-    for (; tr.pass < std::min(untilPass, 6); ++tr.pass) {
-        const int pass = tr.pass;
-        // Two refinements from the seed's rough normal, one after each widening; a sharp edge
-        // (σ of the first fit below kRefitSigmaPx) keeps the first geometry when widened once:
-        // its derivative lies well inside the first slab, which already located it.
-        const int refits = pass == 0 ? 2 : (pass == 1 && tr.sharp ? 0 : 1);
-        for (int it = 0; it < refits; ++it) {
-            straight = refineGeometry(img, b, k, patch, threshold);
-            if (straight < 0.0) return finish(std::nullopt);
+// σ (px) of the line spread guessed from the spread of the thresholded derivative across the
+// edge (spread2, px²): a Gaussian's derivative above 0.2 of its peak has 0.72 σ, a disc's 0.95 σ.
+double guessSigma(const LineFit& f) {
+    return 1.2 * std::sqrt(f.spread2);
+}
+
+// Measures the edge along @p patch (on the edge's line, half-length set, @p slices slices along
+// it) from the line @p line found in the probe. The ESF is sampled as wide as the guessed blur
+// needs and widened while the line spread does not fit; a wide or turned patch first refits the
+// geometry in its own slab. On return @p patch is where the edge was sampled.
+std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
+                                              const BlurOptions& o, const Kernels& k, Patch& patch,
+                                              double threshold, LineFit line, int slices) {
+    const double sd0 = guessSigma(line);
+    patch.hw = std::clamp(4.5 * sd0 + 3.5, kProbeHalfWidthPx, o.maxHalfWidthPx);
+    // A derivative wider than the probe's slab was cut by it, and a line turned by more than a
+    // pixel over the segment was fitted in a slab that does not follow it: fit again in place.
+    bool refit = patch.hw > 1.5 * kProbeHalfWidthPx || std::abs(line.slope) * patch.hl > 1.0;
+    thread_local std::vector<Slice> sl;
+    sl.resize(slices);
+    thread_local std::vector<Bin> bins;
+    for (int pass = 0; pass < 6; ++pass) {
+        if (refit) {
+            geometrySlices(img, b, k, patch, threshold, slices, sl.data());
+            line = fitLine(sl.data(), slices);
+            if (!line.ok) return std::nullopt;
+            moveOnto(patch, line);
         }
-        thread_local std::vector<Bin> bins;
-        sampleEsf(img, b, patch, o.binPx, bins);
+        sampleEsf(img, b, k, patch, o.binPx, bins);
         const EsfFit f = fitEsf(bins, patch.hw, o.minContrast);
-        if (pass == 0) {
-            const double sd = std::sqrt(std::max(f.varLsf, kPixelVariance));
-            const double bend = straight / (0.3 + 0.25 * sd);
-            tr.straightShare = std::exp(-bend * bend);
-        }
         // A clipped edge (a plateau at black or white) has lost the part of its spread beyond the
         // clip: its moment says nothing about the blur.
-        if (f.ok && (f.lo <= kClipLow || f.lo + f.contrast >= kClipHigh))
-            return finish(std::nullopt);
+        if (f.ok && (f.lo <= kClipLow || f.lo + f.contrast >= kClipHigh)) return std::nullopt;
         // An LSF narrower than half the pixel's own spread is no imaged edge (JPEG block seams,
         // a window collapsed on clutter), and a fit without plateau pixels has nothing to trust.
-        if (f.ok && (f.varLsf < 0.5 * kPixelVariance || f.plateauPixels == 0))
-            return finish(std::nullopt);
-        if (f.ok) {
-            EdgeMeasurement m;
-            m.cx = patch.cx + f.mean * patch.nx;
-            m.cy = patch.cy + f.mean * patch.ny;
-            m.angleDeg = std::atan2(patch.ny, patch.nx) * 180.0 / std::numbers::pi;
-            m.contrast = f.contrast;
-            m.noise = f.noise;
-            m.sigmaPx = std::sqrt(std::max(0.0, f.varCore - kPixelVariance));
-            m.riseRawPx = f.rise;
-            // The sampled rise includes the pixel area and the bins' own spread; remove them as
-            // Gaussian shares in quadrature (exact for a Gaussian PSF, close for a disc, whose
-            // rise per σ is 2.7482 rather than 2.5631). Near 0° and 45° the ESF is sampled at
-            // whole-pixel spacing, too coarse to interpolate a crossing: there the Gaussian
-            // model's rise of the measured σ stands in.
-            const double floorRise2 =
-                kGaussianRisePerSigma * kGaussianRisePerSigma * (kPixelVariance + f.binVar);
-            const bool dense = f.binVar <= 2.0 * o.binPx * o.binPx / 6.0;
-            m.edgeWidthPx = dense ? std::sqrt(std::max(0.0, f.rise * f.rise - floorRise2))
-                                  : kGaussianRisePerSigma * m.sigmaPx;
-            m.straightnessPx = straight;
-            const double sd = std::sqrt(std::max(f.varLsf, kPixelVariance));
-            const double cnr = f.contrast / std::max(f.noise, 0.5);
-            const double bend = straight / (0.3 + 0.25 * sd);
-            const double over = f.overshoot / 0.25;
-            m.quality = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend - over * over);
-            return finish(m);
-        }
-        if (!f.needWider || patch.hw >= o.maxHalfWidthPx) return finish(std::nullopt);
-        if (pass == 0) {
-            const double sd = std::sqrt(std::max(f.varLsf, kPixelVariance));
-            const double cnr = f.contrast / std::max(f.noise, 0.5);
-            const double bend = straight / (0.3 + 0.25 * sd);
-            tr.provisional = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend);
-        }
+        if (f.ok && (f.varLsf < 0.5 * kPixelVariance || f.plateauPixels == 0)) return std::nullopt;
+        if (f.ok) return makeMeasurement(patch, f, line.straight, o);
+        if (!f.needWider || patch.hw >= o.maxHalfWidthPx) return std::nullopt;
         const double sd = std::sqrt(std::max(f.varLsf, 0.1));
-        if (pass == 0) tr.sharp = sd < kRefitSigmaPx;
         patch.hw = std::min(o.maxHalfWidthPx, std::max(1.6 * patch.hw, 4.0 * sd + 4.0));
+        refit = true;
     }
-    if (tr.pass >= 6) finish(std::nullopt);
+    return std::nullopt;
 }
 
 Bounds clipRect(const Rect& r, int w, int h) {
@@ -576,7 +573,12 @@ Bounds clipRect(const Rect& r, int w, int h) {
 }  // namespace
 
 std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
-                                          const BlurOptions& options) {
+                                          const BlurOptions& given) {
+    // The ESF kernels' integer sums hold up to 2047 pixels a bin: bins of at most 1 px along
+    // segments of at most 1000 px (a bin of an axis-aligned edge takes one column of the patch).
+    BlurOptions options = given;
+    options.binPx = std::clamp(given.binPx, 1.0 / 16.0, 1.0);
+    options.edgeHalfLengthPx = std::min(given.edgeHalfLengthPx, 500.0);
     std::vector<EdgeMeasurement> out;
     if (luma.empty() || luma.width < 3 || luma.height < 3) return out;
     const Bounds r = clipRect(roi, luma.width, luma.height);
@@ -594,10 +596,22 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
             : std::clamp(0.25 * std::min(r.x1 - r.x0, r.y1 - r.y0), 8.0, 48.0);
     const Kernels kernels = chooseKernels(options);
     std::vector<Candidate> cands = findCandidates(luma, r, options, kernels, 64);
+    // Segment lengths, halved from the longest down to 6 px, share one probe: its slices along
+    // the edge nest, the central 4·2^j of them covering the j-th shortest length.
+    double lengths[kMaxLengths];
+    int nLengths = 0;
+    for (double len = halfLength; len >= 6.0 && nLengths < kMaxLengths; len *= 0.5)
+        lengths[nLengths++] = len;
+    const int slices = 4 << (nLengths - 1);
+    thread_local std::vector<Slice> probe;
+    probe.resize(slices);
     std::vector<Patch> used;
     int attempts = 0;
+    // Attempts grow with the region: one more per 128 × 128 px beyond the first seeds, so that a
+    // large region (a coarse grid on a big sensor) is not judged by its first few seeds.
+    const int extra = (r.x1 - r.x0) * (r.y1 - r.y0) / (128 * 128);
     for (const Candidate& c : cands) {
-        if (static_cast<int>(out.size()) >= maxEdges || attempts >= maxEdges + 2) break;
+        if (static_cast<int>(out.size()) >= maxEdges || attempts >= maxEdges + 2 + extra) break;
         // Skip seeds on an edge already measured (or already rejected).
         const double px = c.x + 0.5, py = c.y + 0.5;
         const bool covered = std::any_of(used.begin(), used.end(), [&](const Patch& p) {
@@ -605,51 +619,51 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
         });
         if (covered) continue;
         ++attempts;
+        // One probe along the longest segment in a narrow slab about the seed's gradient: the
+        // slices' derivative centroids give every length's line and straightness at once.
+        const double g = std::sqrt(c.mag2);
+        const double threshold = 0.2 * g;
+        const Patch seed{c.x + 0.5, c.y + 0.5, c.gx / g, c.gy / g, kProbeHalfWidthPx, halfLength};
+        geometrySlices(luma, sb, kernels, seed, threshold, slices, probe.data());
         // Long segments average more pixels; curved or crowded edges (texture) only stay straight
-        // and clean over a short one. Each length gets a cheap first pass (geometry and a narrow
-        // ESF), shortest first: a longer segment is probed only while the shorter one is
-        // straight, since an edge that bends over a short segment bends more over a long one. Then
-        // the longest good-looking length is widened and measured in full (or, if none measures
-        // well, the best-looking one): widening is most of the cost.
-        double lengths[kMaxLengths];
-        int nLengths = 0;
-        for (double len = halfLength; len >= 6.0 && nLengths < kMaxLengths; len *= 0.5)
-            lengths[nLengths++] = len;
-        EdgeTrial trials[kMaxLengths];
-        int first = nLengths;  // trials[first..nLengths) were probed
+        // and clean over a short one. Lengths are judged shortest first: a longer one only while
+        // the shorter is straight, since an edge that bends over a short segment bends more over
+        // a long one. The longest straight one is measured, then (if it fails) the next shorter.
+        LineFit fits[kMaxLengths];
+        double share[kMaxLengths] = {};
+        int longest = -1, bestShare = -1;
         for (int j = nLengths - 1; j >= 0; --j) {
-            trials[j] = startTrial(c, lengths[j]);
-            runTrial(luma, sb, options, kernels, trials[j], 1);
-            first = j;
-            // Stop at a segment that is already bent: noise, a failed fit or too few edge
-            // slices (at a border) on a short segment say little about a longer one, bending does.
-            if (trials[j].straight >= 0.0 && trials[j].straightShare <= 0.3) break;
+            const int m = slices >> j;
+            fits[j] = fitLine(probe.data() + (slices - m) / 2, m);
+            if (!fits[j].ok) continue;  // too few slices with an edge (a border): try longer
+            const double sd = std::max(guessSigma(fits[j]), std::sqrt(kPixelVariance));
+            const double bend = fits[j].straight / (0.3 + 0.25 * sd);
+            share[j] = std::exp(-bend * bend);
+            if (bestShare < 0 || share[j] > share[bestShare]) bestShare = j;
+            if (share[j] <= 0.3) break;
+            longest = j;
         }
         std::optional<EdgeMeasurement> best;
+        Patch bestPatch = seed;
+        int tries = 0;
+        const int from = longest >= 0 ? longest : bestShare;
+        for (int j = from; j >= 0 && j < nLengths && tries < 3; ++j) {
+            if (!fits[j].ok || (longest >= 0 && share[j] <= 0.3)) continue;
+            ++tries;
+            Patch p = seed;
+            p.hl = lengths[j];
+            moveOnto(p, fits[j]);
+            const auto m =
+                measureSegment(luma, sb, options, kernels, p, threshold, fits[j], slices >> j);
+            if (tries == 1) bestPatch = p;
+            if (m && (!best || m->quality > best->quality)) {
+                best = m;
+                bestPatch = p;
+            }
+            if (best && best->quality > 0.3) break;
+        }
         // Seeds on this edge are skipped later over the full length, measured or not.
-        Patch bestPatch = trials[first].patch;
         bestPatch.hl = halfLength;
-        auto consider = [&](const EdgeTrial& tr) {
-            if (tr.result && (!best || tr.result->quality > best->quality)) {
-                best = tr.result;
-                bestPatch = tr.patch;
-            }
-        };
-        EdgeTrial* pick = nullptr;
-        for (int j = first; j < nLengths; ++j) {
-            EdgeTrial& tr = trials[j];
-            if (!tr.done && tr.provisional > 0.3) runTrial(luma, sb, options, kernels, tr, 6);
-            if (tr.done) {
-                consider(tr);
-                if (best && best->quality > 0.3) break;
-            } else if (!pick || tr.provisional > pick->provisional) {
-                pick = &tr;
-            }
-        }
-        if (!(best && best->quality > 0.3) && pick) {
-            runTrial(luma, sb, options, kernels, *pick, 6);
-            consider(*pick);
-        }
         used.push_back(bestPatch);
         if (best) out.push_back(*best);
     }
@@ -663,26 +677,19 @@ BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& 
     for (const EdgeMeasurement& e : edges)
         if (e.quality > 0.05) good.push_back(&e);
     if (good.empty()) return est;
-    // Robust mean: the weighted median of the per-edge σ picks the majority (a region may hold
-    // edges at several depths, or a stray texture edge); the edges within 25 % of it are then
-    // averaged in variance, weighted by quality, which beats the median's noise.
-    std::sort(good.begin(), good.end(),
-              [](const auto* a, const auto* b) { return a->sigmaPx < b->sigmaPx; });
-    double total = 0;
-    for (const auto* e : good)
-        total += e->quality;
-    double acc = 0, median = good.back()->sigmaPx;
-    for (const auto* e : good) {
-        acc += e->quality;
-        if (acc >= 0.5 * total) {
-            median = e->sigmaPx;
-            break;
-        }
-    }
+    // The sharpest edges set the region's blur. An edge's width is the defocus blur convolved
+    // with the edge's own softness (a rounded body, a shadow, a printed gradient), which only
+    // widens it: no edge in focus at that depth is sharper than the blur, so the smallest σ
+    // bounds it and wider edges are soft objects or edges at another depth. The edges within
+    // 25 % of the sharpest are averaged in variance, weighted by quality, against noise.
+    const double sharpest =
+        (*std::min_element(good.begin(), good.end(), [](const auto* a, const auto* b) {
+            return a->sigmaPx < b->sigmaPx;
+        }))->sigmaPx;
     double sw = 0, sv = 0, sr = 0;
     int agreeing = 0;
     for (const auto* e : good) {
-        if (std::abs(e->sigmaPx - median) > 0.25 * median + 0.05) continue;
+        if (e->sigmaPx > 1.25 * sharpest + 0.05) continue;
         sw += e->quality;
         sv += e->quality * e->sigmaPx * e->sigmaPx;
         sr += e->quality * e->edgeWidthPx * e->edgeWidthPx;
@@ -698,7 +705,7 @@ BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& 
         std::max(0.0, width * width - kGaussianRisePerSigma * kGaussianRisePerSigma * floor2));
     est.edgeCount = agreeing;
     // Confidence: mean quality of the agreeing edges, more edges better, discounted by the
-    // share of edges that disagree with the majority.
+    // share of edges that disagree with them (mixed widths: soft objects or several depths).
     const double agreement = static_cast<double>(agreeing) / good.size();
     est.confidence =
         std::clamp((sw / agreeing) * (1.0 - std::exp(-agreeing / 1.5)) * agreement, 0.0, 1.0);

@@ -46,8 +46,9 @@ void sobelRowAvx2(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x0, 
 
 void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, int width,
                       const GeometryPatch& g, float* acc) {
+    constexpr int L = kGeometryLanes, M = kGeometryMoments;
     const __m256 vnx = _mm256_set1_ps(g.nx), vny = _mm256_set1_ps(g.ny);
-    const __m256 half = _mm256_set1_ps(0.5f), quarter = _mm256_set1_ps(0.25f);
+    const __m256 half = _mm256_set1_ps(0.5f), vinv = _mm256_set1_ps(g.sliceInv);
     const __m256 vthr = _mm256_set1_ps(g.thr), vhl = _mm256_set1_ps(g.hl);
     const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const __m256i top = _mm256_set1_epi32(g.slices - 1);
@@ -75,23 +76,95 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
             const __m256 u = _mm256_add_ps(vu0, _mm256_mul_ps(vnx, fi));
             const __m256 t = _mm256_sub_ps(vt0, _mm256_mul_ps(vny, fi));
             const __m256 wu = _mm256_mul_ps(w, u), wt = _mm256_mul_ps(w, t);
-            __m256i s = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_add_ps(t, vhl), quarter));
+            const __m256 wuu = _mm256_mul_ps(wu, u);
+            __m256i s = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_add_ps(t, vhl), vinv));
             s = _mm256_max_epi32(_mm256_setzero_si256(), _mm256_min_epi32(s, top));
             // t is linear along the row, so the lanes' slices run from the first lane's to the
             // last's: one to three of them.
             const int sa = _mm256_extract_epi32(s, 0), sb = _mm256_extract_epi32(s, 7);
             for (int q = std::min(sa, sb); q <= std::max(sa, sb); ++q) {
                 const __m256 m = _mm256_castsi256_ps(_mm256_cmpeq_epi32(s, _mm256_set1_epi32(q)));
-                float* a = acc + 3 * kGeometryLanes * q;
+                float* a = acc + M * L * q;
                 _mm256_storeu_ps(a, _mm256_add_ps(_mm256_loadu_ps(a), _mm256_and_ps(m, w)));
-                _mm256_storeu_ps(a + 8,
-                                 _mm256_add_ps(_mm256_loadu_ps(a + 8), _mm256_and_ps(m, wu)));
-                _mm256_storeu_ps(a + 16,
-                                 _mm256_add_ps(_mm256_loadu_ps(a + 16), _mm256_and_ps(m, wt)));
+                _mm256_storeu_ps(a + L,
+                                 _mm256_add_ps(_mm256_loadu_ps(a + L), _mm256_and_ps(m, wu)));
+                _mm256_storeu_ps(a + 2 * L,
+                                 _mm256_add_ps(_mm256_loadu_ps(a + 2 * L), _mm256_and_ps(m, wt)));
+                _mm256_storeu_ps(a + 3 * L,
+                                 _mm256_add_ps(_mm256_loadu_ps(a + 3 * L), _mm256_and_ps(m, wuu)));
             }
         }
         // The last pixels of the image's last columns: the generic arithmetic, in the same lanes.
         if (x <= x1) geometryPixels(r, stride, x0, x, x1, sp.u0, sp.t0, g, acc);
+    }
+}
+
+void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch& e,
+                 uint32_t* acc) {
+    const __m256 vnx = _mm256_set1_ps(e.nx), vhw = _mm256_set1_ps(e.hw);
+    const __m256 vinv = _mm256_set1_ps(e.inv), vbin = _mm256_set1_ps(e.binPx);
+    const __m256 vhalf = _mm256_set1_ps(0.5f), vscale = _mm256_set1_ps(e.offsetScale);
+    const __m256 vbins = _mm256_set1_ps(static_cast<float>(e.bins));
+    const __m256i spare = _mm256_set1_epi32(e.bins);
+    const __m256i one = _mm256_set1_epi32(1 << kEsfCountShift);
+    const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    alignas(32) int32_t bin[8];
+    alignas(32) uint32_t words[32];
+    for (int k = 0; k < count; ++k) {
+        const GeometrySpan& sp = spans[k];
+        const uint8_t* r = sp.r;
+        const int x0 = sp.x0, x1 = sp.x1;
+        const __m256 vu0 = _mm256_set1_ps(sp.u0);
+        const __m256i end = _mm256_set1_epi32(x1 - x0 + 1);
+        int x = x0;
+        // 8 pixels per step while the 8-byte load stays inside the row.
+        for (; x <= x1 && x + 8 <= width; x += 8) {
+            const __m256i idx = _mm256_add_epi32(_mm256_set1_epi32(x - x0), iota);
+            // esfBin's float operations, in the same order.
+            const __m256 uh =
+                _mm256_add_ps(_mm256_add_ps(vu0, _mm256_mul_ps(vnx, _mm256_cvtepi32_ps(idx))), vhw);
+            const __m256 q = _mm256_mul_ps(uh, vinv);
+            const __m256i inSpan = _mm256_cmpgt_epi32(end, idx);
+            const __m256 inside =
+                _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(q, _mm256_setzero_ps(), _CMP_GE_OQ),
+                                            _mm256_cmp_ps(q, vbins, _CMP_LT_OQ)),
+                              _mm256_castsi256_ps(inSpan));
+            const __m256i kq = _mm256_cvttps_epi32(q);
+            const __m256 centre = _mm256_mul_ps(_mm256_add_ps(_mm256_cvtepi32_ps(kq), vhalf), vbin);
+            const __m256i off = _mm256_and_si256(
+                _mm256_castps_si256(inside),
+                _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(uh, centre), vscale)));
+            const __m256i kb = _mm256_castps_si256(
+                _mm256_blendv_ps(_mm256_castsi256_ps(spare), _mm256_castsi256_ps(kq), inside));
+            const __m256i v =
+                _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(r + x)));
+            // Lanes past the row's end add nothing (the generic kernel never sees them).
+            const __m256i a = _mm256_and_si256(inSpan, _mm256_add_epi32(v, one));
+            const __m256i b = _mm256_and_si256(inSpan, _mm256_mullo_epi32(v, v));
+            const __m256i c = off;
+            const __m256i d = _mm256_mullo_epi32(off, off);
+            // Four words per pixel: a 4×4 transpose in each 128-bit half.
+            const __m256i t0 = _mm256_unpacklo_epi32(a, b), t1 = _mm256_unpackhi_epi32(a, b);
+            const __m256i t2 = _mm256_unpacklo_epi32(c, d), t3 = _mm256_unpackhi_epi32(c, d);
+            _mm256_store_si256(reinterpret_cast<__m256i*>(words), _mm256_unpacklo_epi64(t0, t2));
+            _mm256_store_si256(reinterpret_cast<__m256i*>(words + 8),
+                               _mm256_unpackhi_epi64(t0, t2));
+            _mm256_store_si256(reinterpret_cast<__m256i*>(words + 16),
+                               _mm256_unpacklo_epi64(t1, t3));
+            _mm256_store_si256(reinterpret_cast<__m256i*>(words + 24),
+                               _mm256_unpackhi_epi64(t1, t3));
+            _mm256_store_si256(reinterpret_cast<__m256i*>(bin), kb);
+            // words holds pixels 0, 4 | 1, 5 | 2, 6 | 3, 7, four words each.
+            for (int j = 0; j < 8; ++j) {
+                const uint32_t* w = words + 8 * (j & 3) + 4 * (j >> 2);
+                __m128i* dst = reinterpret_cast<__m128i*>(acc + 4 * bin[j]);
+                _mm_storeu_si128(
+                    dst, _mm_add_epi32(_mm_loadu_si128(dst),
+                                       _mm_load_si128(reinterpret_cast<const __m128i*>(w))));
+            }
+        }
+        // The last pixels of the image's last columns: the generic arithmetic.
+        if (x <= x1) esfPixels(r, x0, x, x1, sp.u0, e, acc);
     }
 }
 

@@ -17,13 +17,14 @@ void sobelRowAvx2(const uint8_t* above, const uint8_t* mid, const uint8_t* below
                   int16_t* gx, int16_t* gy);
 
 /// An oriented patch for the edge-geometry fit: the normal (nx, ny), the derivative threshold, the
-/// half-length hl and the number of 4 px slices along the edge.
+/// half-length hl, the number of slices along the edge and their inverse width (slices / 2hl).
 struct GeometryPatch {
     float nx, ny, thr, hl;
     int slices;
+    float sliceInv;
 };
 
-/// One row of the patch: pixels x0..x1 of image row @p r; (u0, t0) are the patch coordinates of
+/// One row of a patch: pixels x0..x1 of image row @p r; (u0, t0) are the patch coordinates of
 /// pixel x0 (u grows by nx and t by −ny per pixel).
 struct GeometrySpan {
     const uint8_t* r;
@@ -31,20 +32,23 @@ struct GeometrySpan {
     float u0, t0;
 };
 
-/// Number of partial sums per slice kept by the geometry kernels: lane i of a row adds into
-/// partial (i − x0) mod 8, so that the vector and the generic kernel add in the same order.
+/// Number of partial sums per slice and moment kept by the geometry kernels: lane i of a row adds
+/// into partial (i − x0) mod 8, so that the vector and the generic kernel add in the same order.
 constexpr int kGeometryLanes = 8;
+/// Moments per slice: w, w·u, w·t, w·u².
+constexpr int kGeometryMoments = 4;
 
 /// Adds the pixels of the @p count rows @p spans (image stride @p stride, @p width pixels) whose
 /// directional derivative d = 0.5 (Δx·nx + Δy·ny) (central differences) exceeds thr to the slice
-/// sums @p acc: for slice s = ⌊(t + hl)/4⌋ (clamped), acc[(3s + j)·8 + lane] += w, w·u, w·t for
-/// j = 0, 1, 2, with w = d − thr; all in float.
+/// sums @p acc: for slice s = ⌊(t + hl)·sliceInv⌋ (clamped), acc[(4s + j)·8 + lane] += w, w·u,
+/// w·t, w·u·u for j = 0..3, with w = d − thr; all in float.
 void geometryRowsGeneric(const GeometrySpan* spans, int count, ptrdiff_t stride, int width,
                          const GeometryPatch& g, float* acc);
 /// The scalar arithmetic of both geometry kernels for the pixels from..x1 of a row that starts at
 /// x0 (lanes and coordinates counted from x0).
 inline void geometryPixels(const uint8_t* r, ptrdiff_t stride, int x0, int from, int x1, float u0,
                            float t0, const GeometryPatch& g, float* acc) {
+    constexpr int L = kGeometryLanes;
     for (int x = from; x <= x1; ++x) {
         const float d = 0.5f * (static_cast<float>(r[x + 1] - r[x - 1]) * g.nx +
                                 static_cast<float>(r[x + stride] - r[x - stride]) * g.ny);
@@ -52,17 +56,72 @@ inline void geometryPixels(const uint8_t* r, ptrdiff_t stride, int x0, int from,
         const int i = x - x0;
         const float w = d - g.thr, fi = static_cast<float>(i);
         const float u = u0 + g.nx * fi, t = t0 - g.ny * fi;
-        int s = static_cast<int>((t + g.hl) * 0.25f);
+        int s = static_cast<int>((t + g.hl) * g.sliceInv);
         s = s < 0 ? 0 : (s > g.slices - 1 ? g.slices - 1 : s);
-        float* a = acc + 3 * kGeometryLanes * s + (i & (kGeometryLanes - 1));
+        float* a = acc + kGeometryMoments * L * s + (i & (L - 1));
+        const float wu = w * u;
         a[0] += w;
-        a[kGeometryLanes] += w * u;
-        a[2 * kGeometryLanes] += w * t;
+        a[L] += wu;
+        a[2 * L] += w * t;
+        a[3 * L] += wu * u;
     }
 }
 
 /// geometryRowsGeneric with AVX2 (check haveAvx2() first): the same sums to the bit.
 void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, int width,
                       const GeometryPatch& g, float* acc);
+
+/// How the ESF kernels bin a patch: the pixel at distance u across the edge goes to bin
+/// k = ⌊(u + hw)·inv⌋ when 0 ≤ (u + hw)·inv < bins, with its offset from the bin's centre
+/// δ = ((u + hw) − (k + ½)·binPx)·offsetScale, truncated to an integer.
+struct EsfPatch {
+    float nx, hw, inv, binPx;
+    int bins;
+    float offsetScale;  ///< 2048 / binPx: |δ| ≤ 1024 units, δ² sums of 2047 pixels fit 32 bits
+};
+
+/// Bit at which the pixel count is packed above the grey-level sum in a bin's first word: sums
+/// of up to 4112 pixels of 255 fit below it.
+constexpr int kEsfCountShift = 20;
+/// Most pixels one bin may receive (the packed count and the δ² sum stay in 32 bits).
+constexpr int kEsfMaxBinPixels = 2047;
+
+/// The bin and offset of the pixel at lane offset @p fi of a row starting at u0 (shared by both
+/// ESF kernels so that their float arithmetic is the same); the spare bin for pixels outside.
+inline int esfBin(float u0, float fi, const EsfPatch& e, int32_t* offset) {
+    const float uh = (u0 + e.nx * fi) + e.hw;
+    const float q = uh * e.inv;
+    if (!(q >= 0.0f && q < static_cast<float>(e.bins))) {
+        *offset = 0;
+        return e.bins;
+    }
+    const int k = static_cast<int>(q);
+    *offset = static_cast<int32_t>((uh - (static_cast<float>(k) + 0.5f) * e.binPx) * e.offsetScale);
+    return k;
+}
+
+/// The scalar ESF binning of pixels from..x1 of a row starting at x0 (see esfRowsGeneric).
+inline void esfPixels(const uint8_t* r, int x0, int from, int x1, float u0, const EsfPatch& e,
+                      uint32_t* acc) {
+    for (int x = from; x <= x1; ++x) {
+        int32_t off;
+        const int k = esfBin(u0, static_cast<float>(x - x0), e, &off);
+        const uint32_t v = r[x], o = static_cast<uint32_t>(off);
+        uint32_t* a = acc + 4 * k;
+        a[0] += v + (1u << kEsfCountShift);
+        a[1] += v * v;
+        a[2] += o;
+        a[3] += o * o;
+    }
+}
+
+/// Bins the pixels of the @p count rows @p spans (of an image @p width pixels wide) into @p acc,
+/// four unsigned words per bin plus one spare bin (index bins) for the pixels outside:
+/// [Σv + count·2²⁰, Σv², Σδ, Σδ²]. Integer (wrapping) additions: any order of the pixels gives
+/// the same sums. At most kEsfMaxBinPixels pixels may fall in one bin.
+void esfRowsGeneric(const GeometrySpan* spans, int count, int width, const EsfPatch& e,
+                    uint32_t* acc);
+/// esfRowsGeneric with AVX2 (check haveAvx2() first): the same sums.
+void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch& e, uint32_t* acc);
 
 }  // namespace infocus::detail

@@ -132,16 +132,35 @@ TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][si
                                ny = static_cast<float>(std::sin(a));
                     for (float thr : {-5.0f, 0.0f, 12.5f, 40.0f}) {
                         // Two rows: this one and, shifted, the one above it.
-                        const detail::GeometryPatch g{nx, ny, thr, 9.0f, 5};
+                        const detail::GeometryPatch g{nx, ny, thr, 9.0f, 5, 5.0f / 18.0f};
                         const detail::GeometrySpan spans[2] = {
                             {v.row(y), x0, x1, -3.3f, 7.1f},
                             {v.row(y - 1) + 1, x0, x1 - 1, 2.4f, -8.2f}};
                         const int rows = y > 1 ? 2 : 1;
-                        acc0.assign(3 * detail::kGeometryLanes * g.slices, 0.0f);
+                        acc0.assign(detail::kGeometryMoments * detail::kGeometryLanes * g.slices,
+                                    0.0f);
                         acc1 = acc0;
                         detail::geometryRowsGeneric(spans, rows, v.stride, w, g, acc0.data());
                         detail::geometryRowsAvx2(spans, rows, v.stride, w, g, acc1.data());
                         CHECK(acc0 == acc1);
+                    }
+                    // The ESF kernels: integer sums, equal whatever the order; bins of 1/4 and
+                    // 1/16 px, pixels left and right of the binned width (to the spare bin).
+                    for (float bp : {0.25f, 0.0625f}) {
+                        const detail::EsfPatch e{
+                            nx, 7.0f, 1.0f / bp, bp, static_cast<int>(14.0f / bp), 2048.0f / bp};
+                        const detail::GeometrySpan spans[2] = {{v.row(y), x0, x1, -9.3f, 0.0f},
+                                                               {v.row(y - 1), x0, x1, 2.4f, 0.0f}};
+                        std::vector<uint32_t> e0(4 * static_cast<size_t>(e.bins + 1), 0u);
+                        std::vector<uint32_t> e1 = e0;
+                        detail::esfRowsGeneric(spans, 2, w, e, e0.data());
+                        detail::esfRowsAvx2(spans, 2, w, e, e1.data());
+                        CHECK(e0 == e1);
+                        // Every pixel is counted once: in a bin or in the spare one.
+                        uint32_t counted = 0;
+                        for (int k = 0; k <= e.bins; ++k)
+                            counted += e1[4 * k] >> detail::kEsfCountShift;
+                        CHECK(counted == static_cast<uint32_t>(2 * n));
                     }
                 }
             }
