@@ -15,17 +15,6 @@ namespace infocus {
 
 namespace detail {
 
-void sobelRowGeneric(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x0, int n,
-                     int16_t* gx, int16_t* gy) {
-    for (int i = 0; i < n; ++i) {
-        const int x = x0 + i;
-        gx[i] = static_cast<int16_t>((a[x + 1] - a[x - 1]) + 2 * (m[x + 1] - m[x - 1]) +
-                                     (c[x + 1] - c[x - 1]));
-        gy[i] =
-            static_cast<int16_t>((c[x - 1] - a[x - 1]) + 2 * (c[x] - a[x]) + (c[x + 1] - a[x + 1]));
-    }
-}
-
 void geometryRowsGeneric(const GeometrySpan* spans, int count, ptrdiff_t stride, int,
                          const GeometryPatch& g, float* acc) {
     for (int k = 0; k < count; ++k) {
@@ -37,6 +26,21 @@ void geometryRowsGeneric(const GeometrySpan* spans, int count, ptrdiff_t stride,
 void esfRowsGeneric(const GeometrySpan* spans, int count, int, const EsfPatch& e, uint32_t* acc) {
     for (int k = 0; k < count; ++k)
         esfPixels(spans[k].r, spans[k].x0, spans[k].x0, spans[k].x1, spans[k].u0, e, acc);
+}
+
+int32_t sobelGridRowGeneric(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x0, int count,
+                            int step, int, int16_t* gx, int16_t* gy, int32_t* mag2) {
+    int32_t peak = 0;
+    for (int i = 0; i < count; ++i) {
+        const int x = x0 + i * step;
+        const int dx = (a[x + 1] - a[x - 1]) + 2 * (m[x + 1] - m[x - 1]) + (c[x + 1] - c[x - 1]);
+        const int dy = (c[x - 1] - a[x - 1]) + 2 * (c[x] - a[x]) + (c[x + 1] - a[x + 1]);
+        gx[i] = static_cast<int16_t>(dx);
+        gy[i] = static_cast<int16_t>(dy);
+        mag2[i] = dx * dx + dy * dy;
+        peak = std::max(peak, mag2[i]);
+    }
+    return peak;
 }
 
 }  // namespace detail
@@ -127,15 +131,15 @@ void forEachRow(const Patch& p, const Bounds& b, Fn&& fn) {
 
 // The pixel kernels: AVX2 when the CPU has it and the options allow, else the generic reference.
 struct Kernels {
-    decltype(&detail::sobelRowGeneric) sobelRow;
+    decltype(&detail::sobelGridRowGeneric) sobelGridRow;
     decltype(&detail::geometryRowsGeneric) geometryRows;
     decltype(&detail::esfRowsGeneric) esfRows;
 };
 
 Kernels chooseKernels(const BlurOptions& o) {
     if (o.simd && detail::haveAvx2())
-        return {detail::sobelRowAvx2, detail::geometryRowsAvx2, detail::esfRowsAvx2};
-    return {detail::sobelRowGeneric, detail::geometryRowsGeneric, detail::esfRowsGeneric};
+        return {detail::sobelGridRowAvx2, detail::geometryRowsAvx2, detail::esfRowsAvx2};
+    return {detail::sobelGridRowGeneric, detail::geometryRowsGeneric, detail::esfRowsGeneric};
 }
 
 // Edge candidates: a Sobel gradient (grey levels per pixel) on a sparse grid of the region,
@@ -152,26 +156,18 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
     const int n = x1 - x0;
     const int perRow = (n + step - 1) / step;
     const size_t gridSize = static_cast<size_t>(perRow) * ((y1 - y0 + step - 1) / step);
-    thread_local std::vector<int16_t> rowX, rowY, gridX, gridY;
+    thread_local std::vector<int16_t> gridX, gridY;
     thread_local std::vector<int32_t> gridM;
     thread_local std::vector<uint64_t> keys;
-    if (rowX.size() < static_cast<size_t>(n)) rowX.resize(n), rowY.resize(n);
     if (gridX.size() < gridSize)
         gridX.resize(gridSize), gridY.resize(gridSize), gridM.resize(gridSize),
             keys.resize(gridSize);
     int peak2 = 0;
     size_t g = 0;
-    for (int y = y0; y < y1; y += step) {
-        k.sobelRow(img.row(y - 1), img.row(y), img.row(y + 1), x0, n, rowX.data(), rowY.data());
-        for (int i = 0; i < n; i += step, ++g) {
-            const int gx = rowX[i], gy = rowY[i];
-            const int m2 = gx * gx + gy * gy;
-            peak2 = std::max(peak2, m2);
-            gridX[g] = rowX[i];
-            gridY[g] = rowY[i];
-            gridM[g] = m2;
-        }
-    }
+    for (int y = y0; y < y1; y += step, g += perRow)
+        peak2 = std::max(
+            peak2, k.sobelGridRow(img.row(y - 1), img.row(y), img.row(y + 1), x0, perRow, step,
+                                  img.width, gridX.data() + g, gridY.data() + g, gridM.data() + g));
     const float peak = static_cast<float>(peak2) * (1.0f / 64.0f);
     const auto thr = std::max(static_cast<float>(o.relativeGradient * o.relativeGradient * peak),
                               static_cast<float>(o.minGradient * o.minGradient));
@@ -185,9 +181,35 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
         keys[count] = (static_cast<uint64_t>(m2) << 32) | (0xffffffffu - static_cast<uint32_t>(g));
         count += !(static_cast<float>(m2) * (1.0f / 64.0f) < thr);
     }
-    // The m strongest by selection, then sorted (no heap of all candidates).
+    // The m strongest, then sorted. Selection by a histogram of |g|² (256 buckets up to the
+    // peak): the buckets above the m-th strongest are taken whole, and only the keys of its own
+    // bucket are ordered, so the few kept of thousands never go through a general selection.
     const size_t m = std::min(cap, count);
-    std::nth_element(keys.begin(), keys.begin() + m, keys.begin() + count, std::greater<>());
+    if (count > m) {
+        int shift = 0;
+        while ((peak2 >> shift) >= 256)
+            ++shift;
+        uint32_t hist[256] = {};
+        for (size_t i = 0; i < count; ++i)
+            ++hist[(keys[i] >> 32) >> shift];
+        size_t above = 0;
+        uint64_t edge = 255;
+        while (above + hist[edge] < m)
+            above += hist[edge--];
+        // Keys of higher buckets to the front, those of the boundary bucket after them.
+        thread_local std::vector<uint64_t> tie;
+        tie.clear();
+        size_t front = 0;
+        for (size_t i = 0; i < count; ++i) {
+            const uint64_t bucket = (keys[i] >> 32) >> shift;
+            if (bucket > edge)
+                keys[front++] = keys[i];
+            else if (bucket == edge)
+                tie.push_back(keys[i]);
+        }
+        std::nth_element(tie.begin(), tie.begin() + (m - front), tie.end(), std::greater<>());
+        std::copy(tie.begin(), tie.begin() + (m - front), keys.begin() + front);
+    }
     std::sort(keys.begin(), keys.begin() + m, std::greater<>());
     std::vector<Candidate> out(m);
     for (size_t i = 0; i < m; ++i) {

@@ -23,15 +23,26 @@ inline __m256 widen8f(const uint8_t* p) {
 
 }  // namespace
 
-void sobelRowAvx2(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x0, int n, int16_t* gx,
-                  int16_t* gy) {
+int32_t sobelGridRowAvx2(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x0, int count,
+                         int step, int width, int16_t* gx, int16_t* gy, int32_t* mag2) {
+    if (step != 2) return sobelGridRowGeneric(a, m, c, x0, count, step, width, gx, gy, mag2);
+    const __m256i low = _mm256_set1_epi16(0xff);
+    __m256i peak = _mm256_setzero_si256();
     int i = 0;
-    // 16 pixels per step: |gx|, |gy| ≤ 1020 fit int16. Loads reach x + 16, inside the row.
-    for (; i + 16 <= n; i += 16) {
-        const int x = x0 + i;
-        const __m256i al = widen16(a + x - 1), ac = widen16(a + x), ar = widen16(a + x + 1);
-        const __m256i ml = widen16(m + x - 1), mr = widen16(m + x + 1);
-        const __m256i cl = widen16(c + x - 1), cc = widen16(c + x), cr = widen16(c + x + 1);
+    // 16 points (32 pixels) per step. Read as 16-bit words from x − 1, a word holds the pixels
+    // left of and at a point; from x + 1, its low byte is the pixel right of it. The loads reach
+    // x0 + 2i + 32, which must be inside the row.
+    for (; i + 16 <= count && x0 + 2 * i + 33 <= width; i += 16) {
+        const int x = x0 + 2 * i;
+        auto at = [](const uint8_t* p) {
+            return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
+        };
+        const __m256i aw = at(a + x - 1), ar = _mm256_and_si256(at(a + x + 1), low);
+        const __m256i mw = at(m + x - 1), mr = _mm256_and_si256(at(m + x + 1), low);
+        const __m256i cw = at(c + x - 1), cr = _mm256_and_si256(at(c + x + 1), low);
+        const __m256i al = _mm256_and_si256(aw, low), ac = _mm256_srli_epi16(aw, 8);
+        const __m256i ml = _mm256_and_si256(mw, low);
+        const __m256i cl = _mm256_and_si256(cw, low), cc = _mm256_srli_epi16(cw, 8);
         const __m256i dx =
             _mm256_add_epi16(_mm256_add_epi16(_mm256_sub_epi16(ar, al), _mm256_sub_epi16(cr, cl)),
                              _mm256_slli_epi16(_mm256_sub_epi16(mr, ml), 1));
@@ -40,8 +51,25 @@ void sobelRowAvx2(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x0, 
                              _mm256_slli_epi16(_mm256_sub_epi16(cc, ac), 1));
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(gx + i), dx);
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(gy + i), dy);
+        // gx² + gy² in 32 bits: pairs (gx, gy) multiplied and added; the unpacks work within
+        // 128-bit halves, so the halves are put back in order.
+        const __m256i lo =
+            _mm256_madd_epi16(_mm256_unpacklo_epi16(dx, dy), _mm256_unpacklo_epi16(dx, dy));
+        const __m256i hi =
+            _mm256_madd_epi16(_mm256_unpackhi_epi16(dx, dy), _mm256_unpackhi_epi16(dx, dy));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(mag2 + i),
+                            _mm256_permute2x128_si256(lo, hi, 0x20));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(mag2 + i + 8),
+                            _mm256_permute2x128_si256(lo, hi, 0x31));
+        peak = _mm256_max_epi32(peak, _mm256_max_epi32(lo, hi));
     }
-    if (i < n) sobelRowGeneric(a, m, c, x0 + i, n - i, gx + i, gy + i);
+    alignas(32) int32_t lanes[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), peak);
+    int32_t best = *std::max_element(lanes, lanes + 8);
+    if (i < count)
+        best = std::max(best, sobelGridRowGeneric(a, m, c, x0 + 2 * i, count - i, 2, width, gx + i,
+                                                  gy + i, mag2 + i));
+    return best;
 }
 
 void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, int width,

@@ -8,13 +8,17 @@
 
 namespace infocus::detail {
 
-/// 3×3 Sobel gradient (×8 grey levels per pixel) of the @p n pixels x0..x0+n−1 of the row whose
-/// rows above, at and below are @p above, @p mid, @p below; x0 ≥ 1 and x0+n ≤ width − 1.
-void sobelRowGeneric(const uint8_t* above, const uint8_t* mid, const uint8_t* below, int x0, int n,
-                     int16_t* gx, int16_t* gy);
-/// sobelRowGeneric with AVX2 (check haveAvx2() first): the same numbers.
-void sobelRowAvx2(const uint8_t* above, const uint8_t* mid, const uint8_t* below, int x0, int n,
-                  int16_t* gx, int16_t* gy);
+/// The 3×3 Sobel gradient (×8 grey levels per pixel) of the @p count pixels x0, x0 + step, … of
+/// the row whose rows above, at and below are @p above, @p mid, @p below (x0 ≥ 1), and its square
+/// magnitude gx² + gy²; returns the largest magnitude (0 if none). The last pixel
+/// must satisfy x ≤ width − 2.
+int32_t sobelGridRowGeneric(const uint8_t* above, const uint8_t* mid, const uint8_t* below, int x0,
+                            int count, int step, int width, int16_t* gx, int16_t* gy,
+                            int32_t* mag2);
+/// sobelGridRowGeneric with AVX2 (check haveAvx2() first) for step 2 (others: the generic one),
+/// reading up to 32 bytes past x0 + 2·16k while the row has them: the same numbers.
+int32_t sobelGridRowAvx2(const uint8_t* above, const uint8_t* mid, const uint8_t* below, int x0,
+                         int count, int step, int width, int16_t* gx, int16_t* gy, int32_t* mag2);
 
 /// An oriented patch for the edge-geometry fit: the normal (nx, ny), the derivative threshold, the
 /// half-length hl, the number of slices along the edge and their inverse width (slices / 2hl).

@@ -116,13 +116,31 @@ TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][si
     for (int y = 1; y < h - 1; ++y)
         for (int x0 : {1, 2, 7, 40})
             for (int n : {1, 5, 15, 16, 17, 33, w - 1 - x0}) {
-                // Integer arithmetic on both sides: equal to the bit.
-                detail::sobelRowGeneric(v.row(y - 1), v.row(y), v.row(y + 1), x0, n, gx0.data(),
-                                        gy0.data());
-                detail::sobelRowAvx2(v.row(y - 1), v.row(y), v.row(y + 1), x0, n, gx1.data(),
-                                     gy1.data());
-                CHECK(std::equal(gx0.begin(), gx0.begin() + n, gx1.begin()));
-                CHECK(std::equal(gy0.begin(), gy0.begin() + n, gy1.begin()));
+                // Integer arithmetic on both sides: equal to the bit, for every grid step (the
+                // vector kernel has step 2, the others hand over to the generic one).
+                for (int step : {1, 2, 3}) {
+                    const int count = (n - 1) / step + 1;
+                    if (x0 + (count - 1) * step > w - 2) continue;
+                    std::vector<int32_t> m0(count), m1(count);
+                    const int32_t p0 =
+                        detail::sobelGridRowGeneric(v.row(y - 1), v.row(y), v.row(y + 1), x0, count,
+                                                    step, w, gx0.data(), gy0.data(), m0.data());
+                    const int32_t p1 =
+                        detail::sobelGridRowAvx2(v.row(y - 1), v.row(y), v.row(y + 1), x0, count,
+                                                 step, w, gx1.data(), gy1.data(), m1.data());
+                    CHECK(p0 == p1);
+                    CHECK(p0 == *std::max_element(m0.begin(), m0.end()));
+                    CHECK(std::equal(gx0.begin(), gx0.begin() + count, gx1.begin()));
+                    CHECK(std::equal(gy0.begin(), gy0.begin() + count, gy1.begin()));
+                    CHECK(m0 == m1);
+                    // The generic kernel is the Sobel operator: spot-check one point by hand.
+                    const int x = x0 + (count - 1) * step;
+                    const uint8_t *a = v.row(y - 1), *c = v.row(y + 1), *mm = v.row(y);
+                    CHECK(gx0[count - 1] == (a[x + 1] - a[x - 1]) + 2 * (mm[x + 1] - mm[x - 1]) +
+                                                (c[x + 1] - c[x - 1]));
+                    CHECK(gy0[count - 1] ==
+                          (c[x - 1] - a[x - 1]) + 2 * (c[x] - a[x]) + (c[x + 1] - a[x + 1]));
+                }
                 // The same float operations in the same order and lanes (no FMA): the same slice
                 // sums to the bit, including the last columns, where the vector loop hands over
                 // to the scalar one, and slices clamped at both ends.
