@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <span>
 
 #include "blur_kernels.h"
 #include "sharpness_kernels.h"
@@ -86,47 +87,6 @@ inline int floorInt(double v) {
 inline int ceilInt(double v) {
     const int i = static_cast<int>(v);
     return i + (v > i);
-}
-
-// Calls fn(y, x0, x1, u0, t0) for every row of @p b holding pixel centres inside @p p: pixels
-// x0..x1 of row y, (u0, t0) the patch coordinates of pixel x0; along the row u grows by nx and t
-// by −ny per pixel, so callers step them instead of projecting every pixel.
-template <typename Fn>
-void forEachRow(const Patch& p, const Bounds& b, Fn&& fn) {
-    const double r = std::abs(p.hw * p.nx) + std::abs(p.hl * p.ny);
-    const double rv = std::abs(p.hw * p.ny) + std::abs(p.hl * p.nx);
-    const int y0 = std::max(b.y0, static_cast<int>(std::floor(p.cy - rv - 0.5)));
-    const int y1 = std::min(b.y1 - 1, static_cast<int>(std::ceil(p.cy + rv - 0.5)));
-    // |dx·nx + dy·ny| ≤ hw  and  |−dx·ny + dy·nx| ≤ hl, solved for dx: each slab bounds dx to
-    // centre(dy) ± half, with centre linear in dy, so a 45° patch costs its area, not its
-    // bounding box, and a row costs a few multiplications.
-    struct Slab {
-        bool open;           // the slab does not constrain x (normal along y)
-        double slope, half;  // dx centre = slope·dy, half-extent
-        double h, c;         // for a closed slab: |c·dy| ≤ h
-    };
-    auto makeSlab = [](double a, double coef, double h) {
-        if (std::abs(a) < 1e-12) return Slab{true, 0.0, 0.0, h, coef};
-        const double inv = 1.0 / a;
-        return Slab{false, -coef * inv, std::abs(h * inv), h, coef};
-    };
-    const Slab s1 = makeSlab(p.nx, p.ny, p.hw), s2 = makeSlab(-p.ny, p.nx, p.hl);
-    for (int y = y0; y <= y1; ++y) {
-        const double dy = y + 0.5 - p.cy;
-        double lo = p.cx - r - 1.0, hi = p.cx + r + 1.0;
-        for (const Slab& sl : {s1, s2}) {
-            if (sl.open) {
-                if (std::abs(sl.c * dy) > sl.h) hi = lo - 1.0;
-                continue;
-            }
-            const double centre = p.cx + sl.slope * dy;
-            lo = std::max(lo, centre - sl.half);
-            hi = std::min(hi, centre + sl.half);
-        }
-        const int x0 = std::max(b.x0, ceilInt(lo - 0.5));
-        const int x1 = std::min(b.x1 - 1, floorInt(hi - 0.5));
-        if (x0 <= x1) fn(y, x0, x1, p.u(x0 + 0.5, y + 0.5), p.t(x0 + 0.5, y + 0.5));
-    }
 }
 
 // The pixel kernels: AVX2 when the CPU has it and the options allow, else the generic reference.
@@ -221,15 +181,59 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
     return out;
 }
 
-// The rows of @p p inside @p b as kernel spans, in scratch reused across calls.
-const std::vector<detail::GeometrySpan>& patchSpans(const Luma8& img, const Bounds& b,
-                                                    const Patch& p) {
+// The rows of @p p inside @p b as kernel spans (scratch reused across calls): for every row
+// holding pixel centres inside the patch, its pixels x0..x1 and the patch coordinates (u0, t0)
+// of pixel x0; along the row u grows by nx and t by −ny per pixel, so the kernels step them
+// instead of projecting every pixel.
+std::span<const detail::GeometrySpan> patchSpans(const Luma8& img, const Bounds& b,
+                                                 const Patch& p) {
+    const double r = std::abs(p.hw * p.nx) + std::abs(p.hl * p.ny);
+    const double rv = std::abs(p.hw * p.ny) + std::abs(p.hl * p.nx);
+    const int y0 = std::max(b.y0, static_cast<int>(std::floor(p.cy - rv - 0.5)));
+    const int y1 = std::min(b.y1 - 1, static_cast<int>(std::ceil(p.cy + rv - 0.5)));
     thread_local std::vector<detail::GeometrySpan> spans;
-    spans.clear();
-    forEachRow(p, b, [&](int y, int x0, int x1, double u0, double t0) {
-        spans.push_back({img.row(y), x0, x1, static_cast<float>(u0), static_cast<float>(t0)});
-    });
-    return spans;
+    if (y1 < y0) return {};
+    if (spans.size() < static_cast<size_t>(y1 - y0 + 1)) spans.resize(y1 - y0 + 1);
+    // |dx·nx + dy·ny| ≤ hw and |−dx·ny + dy·nx| ≤ hl, solved for dx: each slab bounds dx to
+    // centre(dy) ± half, with centre linear in dy, so a 45° patch costs its area, not its
+    // bounding box, and a row costs a few multiplications. A slab whose normal has no x part
+    // (an axis-aligned patch) bounds the rows instead: |c·dy| ≤ h.
+    struct Slab {
+        bool open;
+        double slope, half, h, c;
+    };
+    auto makeSlab = [](double a, double coef, double h) {
+        if (std::abs(a) < 1e-12) return Slab{true, 0.0, 0.0, h, coef};
+        const double inv = 1.0 / a;
+        return Slab{false, -coef * inv, std::abs(h * inv), h, coef};
+    };
+    const Slab s1 = makeSlab(p.nx, p.ny, p.hw), s2 = makeSlab(-p.ny, p.nx, p.hl);
+    const double left = p.cx - r - 1.0, right = p.cx + r + 1.0;
+    detail::GeometrySpan* out = spans.data();
+    for (int y = y0; y <= y1; ++y) {
+        const double dy = y + 0.5 - p.cy;
+        double lo = left, hi = right;
+        if (s1.open) {
+            if (std::abs(s1.c * dy) > s1.h) continue;
+        } else {
+            const double centre = p.cx + s1.slope * dy;
+            lo = std::max(lo, centre - s1.half);
+            hi = std::min(hi, centre + s1.half);
+        }
+        if (s2.open) {
+            if (std::abs(s2.c * dy) > s2.h) continue;
+        } else {
+            const double centre = p.cx + s2.slope * dy;
+            lo = std::max(lo, centre - s2.half);
+            hi = std::min(hi, centre + s2.half);
+        }
+        const int x0 = std::max(b.x0, ceilInt(lo - 0.5));
+        const int x1 = std::min(b.x1 - 1, floorInt(hi - 0.5));
+        if (x0 > x1) continue;
+        *out++ = {img.row(y), x0, x1, static_cast<float>(p.u(x0 + 0.5, y + 0.5)),
+                  static_cast<float>(p.t(x0 + 0.5, y + 0.5))};
+    }
+    return {spans.data(), static_cast<size_t>(out - spans.data())};
 }
 
 // The directional derivative's moments in one slice along the edge: Σw, Σw·u, Σw·t, Σw·u².
