@@ -500,18 +500,23 @@ void sampleEsf(const Luma8& img, const Bounds& b, const Kernels& k, const Patch&
     acc.assign(4 * static_cast<size_t>(n + 1), 0u);
     const auto& spans = patchSpans(img, b, p);
     k.esfRows(spans.data(), static_cast<int>(spans.size()), img.width, e, acc.data());
-    bins.clear();
+    // One division per bin (by its count), written in place: this runs for every bin of every
+    // ESF, a hundred thousand times a frame.
+    bins.resize(n);
+    Bin* out = bins.data();
     const double unit = binPx / 2048.0;
     for (int i = 0; i < n; ++i) {
         const uint32_t* a = acc.data() + 4 * i;
         const auto cnt = static_cast<int>(a[0] >> detail::kEsfCountShift);
         if (cnt == 0) continue;
+        const double inv = 1.0 / cnt;
         const double sv = a[0] & ((1u << detail::kEsfCountShift) - 1u);
-        const double v = sv / cnt, d = static_cast<int32_t>(a[2]) * unit / cnt;
+        const double v = sv * inv, d = static_cast<int32_t>(a[2]) * unit * inv;
         const double centre = (i + 0.5) * binPx - p.hw;
-        bins.push_back({centre + d, v, std::max(0.0, a[3] * unit * unit / cnt - d * d),
-                        std::max(0.0, static_cast<double>(a[1]) / cnt - v * v), cnt});
+        *out++ = {centre + d, v, std::max(0.0, a[3] * unit * unit * inv - d * d),
+                  std::max(0.0, static_cast<double>(a[1]) * inv - v * v), cnt};
     }
+    bins.resize(out - bins.data());
 }
 
 // Half-width (px) of the slab across the edge in which the geometry is first fitted.
