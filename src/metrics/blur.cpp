@@ -131,45 +131,34 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
     const float peak = static_cast<float>(peak2) * (1.0f / 64.0f);
     const auto thr = std::max(static_cast<float>(o.relativeGradient * o.relativeGradient * peak),
                               static_cast<float>(o.minGradient * o.minGradient));
-    // Branch-free selection: whether a grid point passes is as good as random, so every point is
-    // written and the count advances only for those above the threshold. A point is a 64-bit key,
-    // |g|² above its complemented grid index: the larger key is the stronger point, equal
-    // gradients in scan order, so selection and sorting compare plain integers.
+    // A point passes when |g|²/64 ≥ thr, i.e. (|g|² an integer, the scaling by 64 exact in float)
+    // when |g|² ≥ ⌈64·thr⌉.
+    const auto minMag2 = static_cast<int64_t>(std::ceil(static_cast<double>(thr * 64.0f)));
+    // The m strongest passing points, strongest first. A point is a 64-bit key, |g|² above its
+    // complemented grid index: the larger key is the stronger point, equal gradients in scan
+    // order. A histogram of |g|² (256 buckets up to the peak) finds the bucket of the m-th
+    // strongest without touching the keys; only the points from that bucket up are then listed
+    // (a few dozen of thousands) and ordered.
+    int shift = 0;
+    while ((peak2 >> shift) >= 256)
+        ++shift;
+    uint32_t hist[256] = {};
+    for (g = 0; g < gridSize; ++g)
+        hist[gridM[g] >> shift] += gridM[g] >= minMag2;
     size_t count = 0;
-    for (g = 0; g < gridSize; ++g) {
-        const int32_t m2 = gridM[g];
-        keys[count] = (static_cast<uint64_t>(m2) << 32) | (0xffffffffu - static_cast<uint32_t>(g));
-        count += !(static_cast<float>(m2) * (1.0f / 64.0f) < thr);
-    }
-    // The m strongest, then sorted. Selection by a histogram of |g|² (256 buckets up to the
-    // peak): the buckets above the m-th strongest are taken whole, and only the keys of its own
-    // bucket are ordered, so the few kept of thousands never go through a general selection.
+    for (uint32_t h : hist)
+        count += h;
     const size_t m = std::min(cap, count);
-    if (count > m) {
-        int shift = 0;
-        while ((peak2 >> shift) >= 256)
-            ++shift;
-        uint32_t hist[256] = {};
-        for (size_t i = 0; i < count; ++i)
-            ++hist[(keys[i] >> 32) >> shift];
-        size_t above = 0;
-        uint64_t edge = 255;
-        while (above + hist[edge] < m)
-            above += hist[edge--];
-        // Keys of higher buckets to the front, those of the boundary bucket after them.
-        thread_local std::vector<uint64_t> tie;
-        tie.clear();
-        size_t front = 0;
-        for (size_t i = 0; i < count; ++i) {
-            const uint64_t bucket = (keys[i] >> 32) >> shift;
-            if (bucket > edge)
-                keys[front++] = keys[i];
-            else if (bucket == edge)
-                tie.push_back(keys[i]);
-        }
-        std::nth_element(tie.begin(), tie.begin() + (m - front), tie.end(), std::greater<>());
-        std::copy(tie.begin(), tie.begin() + (m - front), keys.begin() + front);
-    }
+    int edge = 255;
+    for (size_t above = 0; edge > 0 && above + hist[edge] < m; --edge)
+        above += hist[edge];
+    const int32_t lowest = std::max<int64_t>(minMag2, static_cast<int64_t>(edge) << shift);
+    size_t listed = 0;
+    for (g = 0; g < gridSize; ++g)
+        if (gridM[g] >= lowest)
+            keys[listed++] =
+                (static_cast<uint64_t>(gridM[g]) << 32) | (0xffffffffu - static_cast<uint32_t>(g));
+    std::nth_element(keys.begin(), keys.begin() + m, keys.begin() + listed, std::greater<>());
     std::sort(keys.begin(), keys.begin() + m, std::greater<>());
     std::vector<Candidate> out(m);
     for (size_t i = 0; i < m; ++i) {
