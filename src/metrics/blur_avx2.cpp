@@ -32,9 +32,9 @@ int32_t sobelGridRowAvx2(const uint8_t* a, const uint8_t* m, const uint8_t* c, i
     // 16 points (32 pixels) per step. Read as 16-bit words from x − 1, a word holds the pixels
     // left of and at a point; from x + 1, its low byte is the pixel right of it. The loads reach
     // x0 + 2i + 32, which must be inside the row.
-    for (; i + 16 <= count && x0 + 2 * i + 33 <= width; i += 16) {
-        const int x = x0 + 2 * i;
-        auto at = [](const uint8_t* p) {
+    auto block = [&](int j) {
+        const int x = x0 + 2 * j;
+        const auto at = [](const uint8_t* p) {
             return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
         };
         const __m256i aw = at(a + x - 1), ar = _mm256_and_si256(at(a + x + 1), low);
@@ -49,19 +49,27 @@ int32_t sobelGridRowAvx2(const uint8_t* a, const uint8_t* m, const uint8_t* c, i
         const __m256i dy =
             _mm256_add_epi16(_mm256_add_epi16(_mm256_sub_epi16(cl, al), _mm256_sub_epi16(cr, ar)),
                              _mm256_slli_epi16(_mm256_sub_epi16(cc, ac), 1));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(gx + i), dx);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(gy + i), dy);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(gx + j), dx);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(gy + j), dy);
         // gx² + gy² in 32 bits: pairs (gx, gy) multiplied and added; the unpacks work within
         // 128-bit halves, so the halves are put back in order.
         const __m256i lo =
             _mm256_madd_epi16(_mm256_unpacklo_epi16(dx, dy), _mm256_unpacklo_epi16(dx, dy));
         const __m256i hi =
             _mm256_madd_epi16(_mm256_unpackhi_epi16(dx, dy), _mm256_unpackhi_epi16(dx, dy));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(mag2 + i),
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(mag2 + j),
                             _mm256_permute2x128_si256(lo, hi, 0x20));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(mag2 + i + 8),
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(mag2 + j + 8),
                             _mm256_permute2x128_si256(lo, hi, 0x31));
         peak = _mm256_max_epi32(peak, _mm256_max_epi32(lo, hi));
+    };
+    for (; i + 16 <= count && x0 + 2 * i + 33 <= width; i += 16)
+        block(i);
+    // The last points: one more vector ending at the last point, overlapping the previous one
+    // (the same values again), when the row has the bytes; else the generic kernel.
+    if (i < count && count >= 16 && x0 + 2 * (count - 16) + 33 <= width) {
+        block(count - 16);
+        i = count;
     }
     alignas(32) int32_t lanes[8];
     _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), peak);
