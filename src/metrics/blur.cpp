@@ -327,20 +327,47 @@ struct EsfFit {
 struct Moments {
     double mean, var, binVar;
 };
-Moments lineSpreadMoments(const std::vector<Bin>& bins, size_t il, size_t ir, double lo,
-                          double hi) {
-    double m0 = 0, m1 = 0, m2 = 0, corr = 0;
-    for (size_t i = il; i < ir; ++i) {
-        const double e0 = i == il ? lo : bins[i].value;
-        const double e1 = i + 1 == ir ? hi : bins[i + 1].value;
-        const double l = e1 - e0;
-        const double x = 0.5 * (bins[i].pos + bins[i + 1].pos);
-        const double gap = bins[i + 1].pos - bins[i].pos;
-        m0 += l;
-        m1 += l * x;
-        m2 += l * x * x;
-        corr += l * (gap * gap / 12.0 + 0.5 * (bins[i].withinVar + bins[i + 1].withinVar));
+
+// The terms of each pair of neighbouring bins (i, i + 1) that lineSpreadMoments adds up, computed
+// once per ESF: the step l = v[i+1] − v[i] with l·x, l·x², l·c, and the midpoint x and the bins'
+// own spread c for the window's end pairs, whose step runs from or to a plateau level instead.
+struct PairTerms {
+    std::vector<double> l, lx, lxx, lc, x, c;
+    void set(const std::vector<Bin>& bins) {
+        const size_t n = bins.size() - 1;
+        for (auto* v : {&l, &lx, &lxx, &lc, &x, &c})
+            v->resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            const double step = bins[i + 1].value - bins[i].value;
+            const double mid = 0.5 * (bins[i].pos + bins[i + 1].pos);
+            const double gap = bins[i + 1].pos - bins[i].pos;
+            const double spread =
+                gap * gap / 12.0 + 0.5 * (bins[i].withinVar + bins[i + 1].withinVar);
+            l[i] = step, x[i] = mid, c[i] = spread;
+            lx[i] = step * mid, lxx[i] = step * mid * mid, lc[i] = step * spread;
+        }
     }
+};
+
+// The moments of the line spread (see Moments) from the pair terms @p t of @p bins.
+Moments lineSpreadMoments(const PairTerms& t, size_t il, size_t ir, double lo, double hi,
+                          const std::vector<Bin>& bins) {
+    double m0 = 0, m1 = 0, m2 = 0, corr = 0;
+    auto add = [&](size_t i, double l) {
+        m0 += l;
+        m1 += l * t.x[i];
+        m2 += l * t.x[i] * t.x[i];
+        corr += l * t.c[i];
+    };
+    // The first pair steps up from the low plateau, the last to the high one.
+    add(il, (il + 1 == ir ? hi : bins[il + 1].value) - lo);
+    for (size_t i = il + 1; i + 1 < ir; ++i) {
+        m0 += t.l[i];
+        m1 += t.lx[i];
+        m2 += t.lxx[i];
+        corr += t.lc[i];
+    }
+    if (ir > il + 1) add(ir - 1, hi - bins[ir - 1].value);
     const double mean = m1 / m0;
     return {mean, m2 / m0 - mean * mean, corr / m0};
 }
@@ -362,6 +389,8 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
     if (bins.size() < 8) return f;
     const double first = bins.front().pos, last = bins.back().pos;
     double mu = 0.5 * (first + last), radius = halfWidth;
+    thread_local PairTerms terms;
+    terms.set(bins);
     constexpr double kPlateauPx = 2.0;
     for (int iter = 0; iter < 6; ++iter) {
         const double wl = mu - radius, wr = mu + radius;
@@ -400,7 +429,7 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
         const double hi = nr > 0 ? sr / nr : bins[ir].value;
         const double contrast = hi - lo;
         if (contrast < minContrast || ir <= il + 2) return f;
-        const Moments m = lineSpreadMoments(bins, il, ir, lo, hi);
+        const Moments m = lineSpreadMoments(terms, il, ir, lo, hi, bins);
         mu = m.mean;
         const double var = m.var;
         f.binVar = m.binVar;
@@ -435,7 +464,7 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
             --ir;
         f.varCore = f.varLsf;
         if (ir > il + 2 && f.contrast >= kCleanCnr * std::max(f.noise, 0.5)) {
-            const Moments m = lineSpreadMoments(bins, il, ir, f.lo, f.lo + f.contrast);
+            const Moments m = lineSpreadMoments(terms, il, ir, f.lo, f.lo + f.contrast, bins);
             f.varCore = m.var - m.binVar;
         }
     }
