@@ -44,6 +44,15 @@ int32_t sobelGridRowGeneric(const uint8_t* a, const uint8_t* m, const uint8_t* c
     return peak;
 }
 
+void geometryReduceGeneric(const float* acc, int slices, double* out) {
+    for (int k = 0; k < kGeometryMoments * slices; ++k) {
+        double sum = 0.0;
+        for (int l = 0; l < kGeometryLanes; ++l)
+            sum += acc[k * kGeometryLanes + l];
+        out[k] = sum;
+    }
+}
+
 }  // namespace detail
 
 namespace {
@@ -94,12 +103,15 @@ struct Kernels {
     decltype(&detail::sobelGridRowGeneric) sobelGridRow;
     decltype(&detail::geometryRowsGeneric) geometryRows;
     decltype(&detail::esfRowsGeneric) esfRows;
+    decltype(&detail::geometryReduceGeneric) geometryReduce;
 };
 
 Kernels chooseKernels(const BlurOptions& o) {
     if (o.simd && detail::haveAvx2())
-        return {detail::sobelGridRowAvx2, detail::geometryRowsAvx2, detail::esfRowsAvx2};
-    return {detail::sobelGridRowGeneric, detail::geometryRowsGeneric, detail::esfRowsGeneric};
+        return {detail::sobelGridRowAvx2, detail::geometryRowsAvx2, detail::esfRowsAvx2,
+                detail::geometryReduceAvx2};
+    return {detail::sobelGridRowGeneric, detail::geometryRowsGeneric, detail::esfRowsGeneric,
+            detail::geometryReduceGeneric};
 }
 
 // Edge candidates: a Sobel gradient (grey levels per pixel) on a sparse grid of the region,
@@ -248,14 +260,11 @@ void geometrySlices(const Luma8& img, const Bounds& b, const Kernels& k, const P
     const auto& spans = patchSpans(img, b, p);
     k.geometryRows(spans.data(), static_cast<int>(spans.size()), img.stride, img.width, g,
                    partial.data());
-    for (int s = 0; s < slices; ++s) {
-        const float* a = partial.data() + M * L * s;
-        double m[M] = {};
-        for (int j = 0; j < M; ++j)
-            for (int l = 0; l < L; ++l)
-                m[j] += a[j * L + l];
-        out[s] = {m[0], m[1], m[2], m[3]};
-    }
+    thread_local std::vector<double> sums;
+    sums.resize(static_cast<size_t>(M) * slices);
+    k.geometryReduce(partial.data(), slices, sums.data());
+    for (int s = 0; s < slices; ++s)
+        out[s] = {sums[M * s], sums[M * s + 1], sums[M * s + 2], sums[M * s + 3]};
 }
 
 // The edge as the line u = a + slope·t in a patch's coordinates, from slice centroids.

@@ -135,6 +135,30 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
     }
 }
 
+void geometryReduceAvx2(const float* acc, int slices, double* out) {
+    constexpr int L = kGeometryLanes, M = kGeometryMoments;
+    static_assert(L == 8 && M == 4, "one slice is a 4 x 8 block");
+    for (int s = 0; s < slices; ++s) {
+        const float* a = acc + M * L * s;
+        // Transpose the 4 moments × 8 lanes so that each vector holds lane l of the 4 moments,
+        // then add the lanes in order in double: each moment's sum in the generic order.
+        const __m256 r0 = _mm256_loadu_ps(a), r1 = _mm256_loadu_ps(a + L);
+        const __m256 r2 = _mm256_loadu_ps(a + 2 * L), r3 = _mm256_loadu_ps(a + 3 * L);
+        const __m256 t0 = _mm256_unpacklo_ps(r0, r1), t1 = _mm256_unpackhi_ps(r0, r1);
+        const __m256 t2 = _mm256_unpacklo_ps(r2, r3), t3 = _mm256_unpackhi_ps(r2, r3);
+        // Lane l of moments 0..3: columns of the 4 × 4 transposes of each 128-bit half.
+        const __m256 c0 = _mm256_shuffle_ps(t0, t2, 0x44), c1 = _mm256_shuffle_ps(t0, t2, 0xee);
+        const __m256 c2 = _mm256_shuffle_ps(t1, t3, 0x44), c3 = _mm256_shuffle_ps(t1, t3, 0xee);
+        __m256d sum = _mm256_setzero_pd();
+        for (const __m128 lane : {_mm256_castps256_ps128(c0), _mm256_castps256_ps128(c1),
+                                  _mm256_castps256_ps128(c2), _mm256_castps256_ps128(c3),
+                                  _mm256_extractf128_ps(c0, 1), _mm256_extractf128_ps(c1, 1),
+                                  _mm256_extractf128_ps(c2, 1), _mm256_extractf128_ps(c3, 1)})
+            sum = _mm256_add_pd(sum, _mm256_cvtps_pd(lane));
+        _mm256_storeu_pd(out + M * s, sum);
+    }
+}
+
 void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch& e,
                  uint32_t* acc) {
     const __m256 vnx = _mm256_set1_ps(e.nx), vhw = _mm256_set1_ps(e.hw);

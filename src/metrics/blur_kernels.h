@@ -75,6 +75,12 @@ inline void geometryPixels(const uint8_t* r, ptrdiff_t stride, int x0, int from,
 void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, int width,
                       const GeometryPatch& g, float* acc);
 
+/// Adds up each slice's partial sums in double, lane by lane in order: out[4s + j] =
+/// Σ_l acc[(4s + j)·8 + l] for the @p slices slices and the four moments j.
+void geometryReduceGeneric(const float* acc, int slices, double* out);
+/// geometryReduceGeneric with AVX2 (check haveAvx2() first): the same sums to the bit.
+void geometryReduceAvx2(const float* acc, int slices, double* out);
+
 /// How the ESF kernels bin a patch: the pixel at distance u across the edge goes to bin
 /// k = ⌊(u + hw)·inv⌋ when 0 ≤ (u + hw)·inv < bins, with its offset from the bin's centre
 /// δ = ((u + hw) − (k + ½)·binPx)·offsetScale, truncated to an integer.

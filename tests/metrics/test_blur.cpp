@@ -161,6 +161,11 @@ TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][si
                         detail::geometryRowsGeneric(spans, rows, v.stride, w, g, acc0.data());
                         detail::geometryRowsAvx2(spans, rows, v.stride, w, g, acc1.data());
                         CHECK(acc0 == acc1);
+                        // The slices' partial sums added up in double, in the same order.
+                        std::vector<double> r0(4 * g.slices), r1(4 * g.slices);
+                        detail::geometryReduceGeneric(acc1.data(), g.slices, r0.data());
+                        detail::geometryReduceAvx2(acc1.data(), g.slices, r1.data());
+                        CHECK(r0 == r1);
                     }
                     // The ESF kernels: integer sums, equal whatever the order; bins of 1/4 and
                     // 1/16 px, pixels left and right of the binned width (to the spare bin).
