@@ -4,6 +4,7 @@
 #include "infocus/blur.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -51,6 +52,22 @@ void geometryReduceGeneric(const float* acc, int slices, double* out) {
             sum += acc[k * kGeometryLanes + l];
         out[k] = sum;
     }
+}
+
+size_t countAtLeastGeneric(const int32_t* m, size_t n, int32_t v) {
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i)
+        count += m[i] >= v;
+    return count;
+}
+
+size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys) {
+    size_t listed = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (m[i] >= v)
+            keys[listed++] =
+                (static_cast<uint64_t>(m[i]) << 32) | (0xffffffffu - static_cast<uint32_t>(i));
+    return listed;
 }
 
 }  // namespace detail
@@ -104,14 +121,16 @@ struct Kernels {
     decltype(&detail::geometryRowsGeneric) geometryRows;
     decltype(&detail::esfRowsGeneric) esfRows;
     decltype(&detail::geometryReduceGeneric) geometryReduce;
+    decltype(&detail::countAtLeastGeneric) countAtLeast;
+    decltype(&detail::listAtLeastGeneric) listAtLeast;
 };
 
 Kernels chooseKernels(const BlurOptions& o) {
     if (o.simd && detail::haveAvx2())
-        return {detail::sobelGridRowAvx2, detail::geometryRowsAvx2, detail::esfRowsAvx2,
-                detail::geometryReduceAvx2};
-    return {detail::sobelGridRowGeneric, detail::geometryRowsGeneric, detail::esfRowsGeneric,
-            detail::geometryReduceGeneric};
+        return {detail::sobelGridRowAvx2,   detail::geometryRowsAvx2, detail::esfRowsAvx2,
+                detail::geometryReduceAvx2, detail::countAtLeastAvx2, detail::listAtLeastAvx2};
+    return {detail::sobelGridRowGeneric,   detail::geometryRowsGeneric, detail::esfRowsGeneric,
+            detail::geometryReduceGeneric, detail::countAtLeastGeneric, detail::listAtLeastGeneric};
 }
 
 // Edge candidates: a Sobel gradient (grey levels per pixel) on a sparse grid of the region,
@@ -146,30 +165,32 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
     // A point passes when |g|²/64 ≥ thr, i.e. (|g|² an integer, the scaling by 64 exact in float)
     // when |g|² ≥ ⌈64·thr⌉.
     const auto minMag2 = static_cast<int64_t>(std::ceil(static_cast<double>(thr * 64.0f)));
+    // (No point is above 2³¹: a larger threshold passes none either way.)
+    const auto minM = static_cast<int32_t>(std::min<int64_t>(minMag2, INT32_MAX));
     // The m strongest passing points, strongest first. A point is a 64-bit key, |g|² above its
     // complemented grid index: the larger key is the stronger point, equal gradients in scan
-    // order. A histogram of |g|² (256 buckets up to the peak) finds the bucket of the m-th
-    // strongest without touching the keys; only the points from that bucket up are then listed
-    // (a few dozen of thousands) and ordered.
+    // order. Counting the points above a level (8 at a time) finds, by bisection over 256 levels
+    // up to the peak, the highest level with at least m points above it; only those points (a
+    // few dozen of thousands) are then listed and ordered.
     int shift = 0;
     while ((peak2 >> shift) >= 256)
         ++shift;
-    uint32_t hist[256] = {};
-    for (g = 0; g < gridSize; ++g)
-        hist[gridM[g] >> shift] += gridM[g] >= minMag2;
-    size_t count = 0;
-    for (uint32_t h : hist)
-        count += h;
+    const size_t count = k.countAtLeast(gridM.data(), gridSize, minM);
     const size_t m = std::min(cap, count);
-    int edge = 255;
-    for (size_t above = 0; edge > 0 && above + hist[edge] < m; --edge)
-        above += hist[edge];
-    const int32_t lowest = std::max<int64_t>(minMag2, static_cast<int64_t>(edge) << shift);
-    size_t listed = 0;
-    for (g = 0; g < gridSize; ++g)
-        if (gridM[g] >= lowest)
-            keys[listed++] =
-                (static_cast<uint64_t>(gridM[g]) << 32) | (0xffffffffu - static_cast<uint32_t>(g));
+    int32_t lowest = minM;
+    if (count > m) {
+        int lo = 0, hi = 255;
+        while (lo < hi) {
+            const int mid = (lo + hi + 1) / 2;
+            const int32_t level = std::max(minM, mid << shift);
+            if (k.countAtLeast(gridM.data(), gridSize, level) >= m)
+                lo = mid;
+            else
+                hi = mid - 1;
+        }
+        lowest = std::max(minM, lo << shift);
+    }
+    const size_t listed = k.listAtLeast(gridM.data(), gridSize, lowest, keys.data());
     std::nth_element(keys.begin(), keys.begin() + m, keys.begin() + listed, std::greater<>());
     std::sort(keys.begin(), keys.begin() + m, std::greater<>());
     std::vector<Candidate> out(m);

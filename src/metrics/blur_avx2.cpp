@@ -135,6 +135,39 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
     }
 }
 
+size_t countAtLeastAvx2(const int32_t* m, size_t n, int32_t v) {
+    const __m256i below = _mm256_set1_epi32(v - 1);
+    size_t count = 0, i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(m + i));
+        count += static_cast<size_t>(__builtin_popcount(
+            _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(x, below)))));
+    }
+    return count + countAtLeastGeneric(m + i, n - i, v);
+}
+
+size_t listAtLeastAvx2(const int32_t* m, size_t n, int32_t v, uint64_t* keys) {
+    const __m256i below = _mm256_set1_epi32(v - 1);
+    size_t listed = 0, i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(m + i));
+        // Few points pass: test 8 at once, then visit only the set bits.
+        auto bits = static_cast<unsigned>(
+            _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(x, below))));
+        while (bits) {
+            const size_t j = i + static_cast<size_t>(__builtin_ctz(bits));
+            keys[listed++] =
+                (static_cast<uint64_t>(m[j]) << 32) | (0xffffffffu - static_cast<uint32_t>(j));
+            bits &= bits - 1;
+        }
+    }
+    for (; i < n; ++i)
+        if (m[i] >= v)
+            keys[listed++] =
+                (static_cast<uint64_t>(m[i]) << 32) | (0xffffffffu - static_cast<uint32_t>(i));
+    return listed;
+}
+
 void geometryReduceAvx2(const float* acc, int slices, double* out) {
     constexpr int L = kGeometryLanes, M = kGeometryMoments;
     static_assert(L == 8 && M == 4, "one slice is a 4 x 8 block");

@@ -20,6 +20,16 @@ int32_t sobelGridRowGeneric(const uint8_t* above, const uint8_t* mid, const uint
 int32_t sobelGridRowAvx2(const uint8_t* above, const uint8_t* mid, const uint8_t* below, int x0,
                          int count, int step, int width, int16_t* gx, int16_t* gy, int32_t* mag2);
 
+/// Number of the @p n values @p m[i] that are at least @p v (v ≥ 0).
+size_t countAtLeastGeneric(const int32_t* m, size_t n, int32_t v);
+/// countAtLeastGeneric with AVX2 (check haveAvx2() first).
+size_t countAtLeastAvx2(const int32_t* m, size_t n, int32_t v);
+/// Writes the key (m[i] · 2³² + 2³² − 1 − i) of every i with m[i] ≥ @p v (v ≥ 0) to @p keys, in
+/// order of i, and returns how many it wrote.
+size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys);
+/// listAtLeastGeneric with AVX2 (check haveAvx2() first).
+size_t listAtLeastAvx2(const int32_t* m, size_t n, int32_t v, uint64_t* keys);
+
 /// An oriented patch for the edge-geometry fit: the normal (nx, ny), the derivative threshold, the
 /// half-length hl, the number of slices along the edge and their inverse width (slices / 2hl).
 struct GeometryPatch {

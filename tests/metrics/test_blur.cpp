@@ -189,6 +189,41 @@ TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][si
             }
 }
 
+TEST_CASE("the candidate counting and listing kernels agree with a plain count", "[blur][simd]") {
+    if (!detail::haveAvx2()) {
+        WARN("no AVX2 on this CPU; skipped");
+        return;
+    }
+    // Squared gradients as the candidate grid holds them, lengths with and without a tail.
+    std::vector<int32_t> m(203);
+    uint64_t state = 7;
+    for (int32_t& v : m) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        v = static_cast<int32_t>((state >> 33) % 2000000);
+    }
+    m[5] = m[6] = 1234567;  // ties
+    for (size_t n : {size_t{0}, size_t{7}, size_t{8}, size_t{64}, size_t{203}})
+        for (int32_t v : {0, 1, 1234567, 1234568, 1000000, 1999999, 2000000}) {
+            size_t plain = 0;
+            for (size_t i = 0; i < n; ++i)
+                plain += m[i] >= v;
+            CHECK(detail::countAtLeastGeneric(m.data(), n, v) == plain);
+            CHECK(detail::countAtLeastAvx2(m.data(), n, v) == plain);
+            std::vector<uint64_t> k0(n + 1), k1(n + 1);
+            const size_t l0 = detail::listAtLeastGeneric(m.data(), n, v, k0.data());
+            const size_t l1 = detail::listAtLeastAvx2(m.data(), n, v, k1.data());
+            CHECK(l0 == plain);
+            CHECK(l1 == plain);
+            CHECK(std::equal(k0.begin(), k0.begin() + l0, k1.begin()));
+            // A key holds the value above the complemented index.
+            for (size_t i = 0; i < l0; ++i) {
+                const size_t at = 0xffffffffu - static_cast<uint32_t>(k0[i]);
+                CHECK(static_cast<int32_t>(k0[i] >> 32) == m[at]);
+                CHECK(m[at] >= v);
+            }
+        }
+}
+
 TEST_CASE("the AVX2 and the generic engine measure the same edges", "[blur][simd]") {
     // A textured frame (every angle, curved and straight edges): the whole engine gives the same
     // numbers either way. The kernels agree to the bit, so the tolerance (1e-12 relative) only
