@@ -7,6 +7,7 @@
 #include <climits>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <span>
 
@@ -86,6 +87,8 @@ constexpr int kMaxLengths = 8;
 // Half-width of the window in which the reported line-spread variance is taken, in its σ, and the
 // contrast-to-spread ratio above which the spread beside an edge counts as noise (fitEsf).
 constexpr double kMomentSigmas = 3.0, kCleanCnr = 20.0;
+// Share of a region's best edge quality an edge needs to set the region's blur (measureBlur).
+constexpr double kTrustedQuality = 0.3;
 
 struct Bounds {
     int x0, y0, x1, y1;  // half-open [x0, x1) × [y0, y1)
@@ -759,16 +762,21 @@ BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& 
     // The sharpest edges set the region's blur. An edge's width is the defocus blur convolved
     // with the edge's own softness (a rounded body, a shadow, a printed gradient), which only
     // widens it: no edge in focus at that depth is sharper than the blur, so the smallest σ
-    // bounds it and wider edges are soft objects or edges at another depth. The edges within
-    // 25 % of the sharpest are averaged in variance, weighted by quality, against noise.
-    const double sharpest =
-        (*std::min_element(good.begin(), good.end(), [](const auto* a, const auto* b) {
-            return a->sigmaPx < b->sigmaPx;
-        }))->sigmaPx;
+    // bounds it and wider edges are soft objects or edges at another depth. Only edges of at
+    // least 0.3 × the region's best quality may set it: a cluttered edge (another edge or a
+    // corner in its plateaus) can read narrow, and one such edge must not decide the region.
+    // The edges within 25 % of the sharpest, either side, are averaged in variance, weighted by
+    // quality, against noise.
+    double best = 0.0;
+    for (const auto* e : good)
+        best = std::max(best, e->quality);
+    double sharpest = std::numeric_limits<double>::infinity();
+    for (const auto* e : good)
+        if (e->quality >= kTrustedQuality * best) sharpest = std::min(sharpest, e->sigmaPx);
     double sw = 0, sv = 0, sr = 0;
     int agreeing = 0;
     for (const auto* e : good) {
-        if (e->sigmaPx > 1.25 * sharpest + 0.05) continue;
+        if (std::abs(e->sigmaPx - sharpest) > 0.25 * sharpest + 0.05) continue;
         sw += e->quality;
         sv += e->quality * e->sigmaPx * e->sigmaPx;
         sr += e->quality * e->edgeWidthPx * e->edgeWidthPx;
