@@ -71,6 +71,36 @@ size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys)
     return listed;
 }
 
+int patchRowsGeneric(const PatchRows& s, GeometrySpan* out) {
+    GeometrySpan* const first = out;
+    for (int y = s.y0; y <= s.y1; ++y) {
+        const double dy = y + 0.5 - s.cy;
+        double lo = s.left, hi = s.right;
+        if (s.s1.open) {
+            if (std::abs(s.s1.c * dy) > s.s1.h) continue;
+        } else {
+            const double centre = s.cx + s.s1.slope * dy;
+            lo = std::max(lo, centre - s.s1.half);
+            hi = std::min(hi, centre + s.s1.half);
+        }
+        if (s.s2.open) {
+            if (std::abs(s.s2.c * dy) > s.s2.h) continue;
+        } else {
+            const double centre = s.cx + s.s2.slope * dy;
+            lo = std::max(lo, centre - s.s2.half);
+            hi = std::min(hi, centre + s.s2.half);
+        }
+        const int x0 = std::max(s.bx0, static_cast<int>(std::ceil(lo - 0.5)));
+        const int x1 = std::min(s.bx1 - 1, static_cast<int>(std::floor(hi - 0.5)));
+        if (x0 > x1) continue;
+        const double dx = x0 + 0.5 - s.cx;
+        *out++ = {s.data + static_cast<ptrdiff_t>(y) * s.stride, x0, x1,
+                  static_cast<float>(dx * s.nx + dy * s.ny),
+                  static_cast<float>(-dx * s.ny + dy * s.nx)};
+    }
+    return static_cast<int>(out - first);
+}
+
 }  // namespace detail
 
 namespace {
@@ -126,14 +156,17 @@ struct Kernels {
     decltype(&detail::geometryReduceGeneric) geometryReduce;
     decltype(&detail::countAtLeastGeneric) countAtLeast;
     decltype(&detail::listAtLeastGeneric) listAtLeast;
+    decltype(&detail::patchRowsGeneric) patchRows;
 };
 
 Kernels chooseKernels(const BlurOptions& o) {
     if (o.simd && detail::haveAvx2())
         return {detail::sobelGridRowAvx2,   detail::geometryRowsAvx2, detail::esfRowsAvx2,
-                detail::geometryReduceAvx2, detail::countAtLeastAvx2, detail::listAtLeastAvx2};
+                detail::geometryReduceAvx2, detail::countAtLeastAvx2, detail::listAtLeastAvx2,
+                detail::patchRowsAvx2};
     return {detail::sobelGridRowGeneric,   detail::geometryRowsGeneric, detail::esfRowsGeneric,
-            detail::geometryReduceGeneric, detail::countAtLeastGeneric, detail::listAtLeastGeneric};
+            detail::geometryReduceGeneric, detail::countAtLeastGeneric, detail::listAtLeastGeneric,
+            detail::patchRowsGeneric};
 }
 
 // Edge candidates: a Sobel gradient (grey levels per pixel) on a sparse grid of the region,
@@ -210,8 +243,8 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
 // holding pixel centres inside the patch, its pixels x0..x1 and the patch coordinates (u0, t0)
 // of pixel x0; along the row u grows by nx and t by −ny per pixel, so the kernels step them
 // instead of projecting every pixel.
-std::span<const detail::GeometrySpan> patchSpans(const Luma8& img, const Bounds& b,
-                                                 const Patch& p) {
+std::span<const detail::GeometrySpan> patchSpans(const Luma8& img, const Bounds& b, const Patch& p,
+                                                 const Kernels& k) {
     const double r = std::abs(p.hw * p.nx) + std::abs(p.hl * p.ny);
     const double rv = std::abs(p.hw * p.ny) + std::abs(p.hl * p.nx);
     const int y0 = std::max(b.y0, static_cast<int>(std::floor(p.cy - rv - 0.5)));
@@ -223,42 +256,26 @@ std::span<const detail::GeometrySpan> patchSpans(const Luma8& img, const Bounds&
     // centre(dy) ± half, with centre linear in dy, so a 45° patch costs its area, not its
     // bounding box, and a row costs a few multiplications. A slab whose normal has no x part
     // (an axis-aligned patch) bounds the rows instead: |c·dy| ≤ h.
-    struct Slab {
-        bool open;
-        double slope, half, h, c;
-    };
     auto makeSlab = [](double a, double coef, double h) {
-        if (std::abs(a) < 1e-12) return Slab{true, 0.0, 0.0, h, coef};
+        if (std::abs(a) < 1e-12) return detail::PatchSlab{true, 0.0, 0.0, h, coef};
         const double inv = 1.0 / a;
-        return Slab{false, -coef * inv, std::abs(h * inv), h, coef};
+        return detail::PatchSlab{false, -coef * inv, std::abs(h * inv), h, coef};
     };
-    const Slab s1 = makeSlab(p.nx, p.ny, p.hw), s2 = makeSlab(-p.ny, p.nx, p.hl);
-    const double left = p.cx - r - 1.0, right = p.cx + r + 1.0;
-    detail::GeometrySpan* out = spans.data();
-    for (int y = y0; y <= y1; ++y) {
-        const double dy = y + 0.5 - p.cy;
-        double lo = left, hi = right;
-        if (s1.open) {
-            if (std::abs(s1.c * dy) > s1.h) continue;
-        } else {
-            const double centre = p.cx + s1.slope * dy;
-            lo = std::max(lo, centre - s1.half);
-            hi = std::min(hi, centre + s1.half);
-        }
-        if (s2.open) {
-            if (std::abs(s2.c * dy) > s2.h) continue;
-        } else {
-            const double centre = p.cx + s2.slope * dy;
-            lo = std::max(lo, centre - s2.half);
-            hi = std::min(hi, centre + s2.half);
-        }
-        const int x0 = std::max(b.x0, ceilInt(lo - 0.5));
-        const int x1 = std::min(b.x1 - 1, floorInt(hi - 0.5));
-        if (x0 > x1) continue;
-        *out++ = {img.row(y), x0, x1, static_cast<float>(p.u(x0 + 0.5, y + 0.5)),
-                  static_cast<float>(p.t(x0 + 0.5, y + 0.5))};
-    }
-    return {spans.data(), static_cast<size_t>(out - spans.data())};
+    const detail::PatchRows rows{img.data,
+                                 img.stride,
+                                 p.cx,
+                                 p.cy,
+                                 p.nx,
+                                 p.ny,
+                                 p.cx - r - 1.0,
+                                 p.cx + r + 1.0,
+                                 makeSlab(p.nx, p.ny, p.hw),
+                                 makeSlab(-p.ny, p.nx, p.hl),
+                                 b.x0,
+                                 b.x1,
+                                 y0,
+                                 y1};
+    return {spans.data(), static_cast<size_t>(k.patchRows(rows, spans.data()))};
 }
 
 // The directional derivative's moments in one slice along the edge: Σw, Σw·u, Σw·t, Σw·u².
@@ -281,7 +298,7 @@ void geometrySlices(const Luma8& img, const Bounds& b, const Kernels& k, const P
                                   static_cast<float>(p.hl),
                                   slices,
                                   static_cast<float>(slices / (2.0 * p.hl))};
-    const auto& spans = patchSpans(img, b, p);
+    const auto& spans = patchSpans(img, b, p, k);
     k.geometryRows(spans.data(), static_cast<int>(spans.size()), img.stride, img.width, g,
                    partial.data());
     thread_local std::vector<double> sums;
@@ -549,7 +566,7 @@ void sampleEsf(const Luma8& img, const Bounds& b, const Kernels& k, const Patch&
     // Four integer sums per bin and a spare one (see blur_kernels.h); scratch reused.
     thread_local std::vector<uint32_t> acc;
     acc.assign(4 * static_cast<size_t>(n + 1), 0u);
-    const auto& spans = patchSpans(img, b, p);
+    const auto& spans = patchSpans(img, b, p, k);
     k.esfRows(spans.data(), static_cast<int>(spans.size()), img.width, e, acc.data());
     // One division per bin (by its count), written in place: this runs for every bin of every
     // ESF, a hundred thousand times a frame.

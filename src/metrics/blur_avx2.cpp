@@ -135,6 +135,49 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
     }
 }
 
+int patchRowsAvx2(const PatchRows& s, GeometrySpan* out) {
+    // An axis-aligned slab bounds rows, not x: the generic walk handles those patches.
+    if (s.s1.open || s.s2.open) return patchRowsGeneric(s, out);
+    GeometrySpan* const first = out;
+    const __m256d cx = _mm256_set1_pd(s.cx), cy = _mm256_set1_pd(s.cy);
+    const __m256d nx = _mm256_set1_pd(s.nx), ny = _mm256_set1_pd(s.ny);
+    const __m256d slope1 = _mm256_set1_pd(s.s1.slope), half1 = _mm256_set1_pd(s.s1.half);
+    const __m256d slope2 = _mm256_set1_pd(s.s2.slope), half2 = _mm256_set1_pd(s.s2.half);
+    const __m256d left = _mm256_set1_pd(s.left), right = _mm256_set1_pd(s.right);
+    const __m256d half = _mm256_set1_pd(0.5);
+    const __m256d bx0 = _mm256_set1_pd(s.bx0), bx1 = _mm256_set1_pd(s.bx1 - 1);
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    alignas(32) int32_t x0s[4], x1s[4];
+    alignas(16) float us[4], ts[4];
+    // Four rows at a time, the generic walk's double operations in the same order: max and min
+    // of numbers are exact, and ceil and floor of the row ends are whole numbers.
+    for (int y = s.y0; y <= s.y1; y += 4) {
+        const __m256d vy = _mm256_setr_pd(y, y + 1.0, y + 2.0, y + 3.0);
+        const __m256d dy = _mm256_sub_pd(_mm256_add_pd(vy, half), cy);
+        const __m256d c1 = _mm256_add_pd(cx, _mm256_mul_pd(slope1, dy));
+        const __m256d c2 = _mm256_add_pd(cx, _mm256_mul_pd(slope2, dy));
+        const __m256d lo =
+            _mm256_max_pd(_mm256_max_pd(left, _mm256_sub_pd(c1, half1)), _mm256_sub_pd(c2, half2));
+        const __m256d hi =
+            _mm256_min_pd(_mm256_min_pd(right, _mm256_add_pd(c1, half1)), _mm256_add_pd(c2, half2));
+        const __m256d x0 = _mm256_max_pd(bx0, _mm256_ceil_pd(_mm256_sub_pd(lo, half)));
+        const __m256d x1 = _mm256_min_pd(bx1, _mm256_floor_pd(_mm256_sub_pd(hi, half)));
+        const __m256d dx = _mm256_sub_pd(_mm256_add_pd(x0, half), cx);
+        const __m256d u = _mm256_add_pd(_mm256_mul_pd(dx, nx), _mm256_mul_pd(dy, ny));
+        const __m256d t =
+            _mm256_add_pd(_mm256_mul_pd(_mm256_xor_pd(dx, sign), ny), _mm256_mul_pd(dy, nx));
+        _mm_store_si128(reinterpret_cast<__m128i*>(x0s), _mm256_cvttpd_epi32(x0));
+        _mm_store_si128(reinterpret_cast<__m128i*>(x1s), _mm256_cvttpd_epi32(x1));
+        _mm_store_ps(us, _mm256_cvtpd_ps(u));
+        _mm_store_ps(ts, _mm256_cvtpd_ps(t));
+        for (int j = 0; j < 4 && y + j <= s.y1; ++j)
+            if (x0s[j] <= x1s[j])
+                *out++ = {s.data + static_cast<ptrdiff_t>(y + j) * s.stride, x0s[j], x1s[j], us[j],
+                          ts[j]};
+    }
+    return static_cast<int>(out - first);
+}
+
 size_t countAtLeastAvx2(const int32_t* m, size_t n, int32_t v) {
     const __m256i below = _mm256_set1_epi32(v - 1);
     size_t count = 0, i = 0;

@@ -46,6 +46,33 @@ struct GeometrySpan {
     float u0, t0;
 };
 
+/// An oriented patch solved for x, row by row (patchSpans in blur.cpp): each of the two slabs
+/// |(x − cx)·a + dy·coef| ≤ h bounds x to cx + slope·dy ± half, or, when a = 0 (open), bounds
+/// the rows instead: |c·dy| ≤ h.
+struct PatchSlab {
+    bool open;
+    double slope, half, h, c;
+};
+
+/// Everything the row walk of a patch needs: image, centre and normal, the two slabs, the
+/// widest x range, the sampling bounds in x and the rows.
+struct PatchRows {
+    const uint8_t* data;
+    ptrdiff_t stride;
+    double cx, cy, nx, ny, left, right;
+    PatchSlab s1, s2;
+    int bx0, bx1;  ///< x in [bx0, bx1)
+    int y0, y1;    ///< rows y0..y1
+};
+
+/// Writes the span of every row of @p rows that holds pixel centres inside the patch to
+/// @p out: pixels x0..x1 and the patch coordinates (u, t) of pixel x0 in float, computed in
+/// double as ((x0 + ½) − cx)·nx + ((y + ½) − cy)·ny and −((x0 + ½) − cx)·ny + ((y + ½) − cy)·nx.
+/// Returns the number of spans.
+int patchRowsGeneric(const PatchRows& rows, GeometrySpan* out);
+/// patchRowsGeneric with AVX2 (check haveAvx2() first), four rows at a time: the same spans.
+int patchRowsAvx2(const PatchRows& rows, GeometrySpan* out);
+
 /// Number of partial sums per slice and moment kept by the geometry kernels: lane i of a row adds
 /// into partial (i − x0) mod 8, so that the vector and the generic kernel add in the same order.
 constexpr int kGeometryLanes = 8;

@@ -224,6 +224,57 @@ TEST_CASE("the candidate counting and listing kernels agree with a plain count",
         }
 }
 
+TEST_CASE("the AVX2 patch row walk gives the generic kernel's spans", "[blur][simd]") {
+    if (!detail::haveAvx2()) {
+        WARN("no AVX2 on this CPU; skipped");
+        return;
+    }
+    static const uint8_t pixels[4] = {};
+    int spans = 0;
+    for (double angle = 0.0; angle < 6.3; angle += 0.37)
+        for (double hw : {6.0, 9.3})
+            for (int bx0 : {0, 37}) {
+                // The generic walk's slabs (see patchSpans): |(x − cx)·a + dy·coef| ≤ h.
+                const double nx = std::cos(angle), ny = std::sin(angle), hl = 30.0;
+                auto slab = [](double a, double coef, double h) {
+                    if (std::abs(a) < 1e-12) return detail::PatchSlab{true, 0.0, 0.0, h, coef};
+                    return detail::PatchSlab{false, -coef / a, std::abs(h / a), h, coef};
+                };
+                const double cx = 50.3, cy = 41.7;
+                const double r = std::abs(hw * nx) + std::abs(hl * ny);
+                const detail::PatchRows rows{pixels,
+                                             640,
+                                             cx,
+                                             cy,
+                                             nx,
+                                             ny,
+                                             cx - r - 1.0,
+                                             cx + r + 1.0,
+                                             slab(nx, ny, hw),
+                                             slab(-ny, nx, hl),
+                                             bx0,
+                                             90,
+                                             3,
+                                             80};
+                std::vector<detail::GeometrySpan> a(80), b(80);
+                const int na = detail::patchRowsGeneric(rows, a.data());
+                const int nb = detail::patchRowsAvx2(rows, b.data());
+                REQUIRE(na == nb);
+                for (int i = 0; i < na; ++i) {
+                    CHECK(a[i].r == b[i].r);
+                    CHECK(a[i].x0 == b[i].x0);
+                    CHECK(a[i].x1 == b[i].x1);
+                    CHECK(a[i].u0 == b[i].u0);
+                    CHECK(a[i].t0 == b[i].t0);
+                    // Pixel x0 lies inside the patch: |u| ≤ hw, |t| ≤ hl (float rounding aside).
+                    CHECK(std::abs(a[i].u0) <= hw + 1e-4);
+                    CHECK(std::abs(a[i].t0) <= hl + 1e-4);
+                }
+                spans += na;
+            }
+    CHECK(spans > 1000);  // the walks were not empty
+}
+
 TEST_CASE("the AVX2 and the generic engine measure the same edges", "[blur][simd]") {
     // A textured frame (every angle, curved and straight edges): the whole engine gives the same
     // numbers either way. The kernels agree to the bit, so the tolerance (1e-12 relative) only
