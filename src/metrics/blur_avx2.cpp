@@ -245,7 +245,6 @@ void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch
     const __m256i one = _mm256_set1_epi32(1 << kEsfCountShift);
     const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     alignas(32) int32_t bin[8];
-    alignas(32) uint32_t words[32];
     for (int k = 0; k < count; ++k) {
         const GeometrySpan& sp = spans[k];
         const uint8_t* r = sp.r;
@@ -282,22 +281,22 @@ void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch
             // Four words per pixel: a 4×4 transpose in each 128-bit half.
             const __m256i t0 = _mm256_unpacklo_epi32(a, b), t1 = _mm256_unpackhi_epi32(a, b);
             const __m256i t2 = _mm256_unpacklo_epi32(c, d), t3 = _mm256_unpackhi_epi32(c, d);
-            _mm256_store_si256(reinterpret_cast<__m256i*>(words), _mm256_unpacklo_epi64(t0, t2));
-            _mm256_store_si256(reinterpret_cast<__m256i*>(words + 8),
-                               _mm256_unpackhi_epi64(t0, t2));
-            _mm256_store_si256(reinterpret_cast<__m256i*>(words + 16),
-                               _mm256_unpacklo_epi64(t1, t3));
-            _mm256_store_si256(reinterpret_cast<__m256i*>(words + 24),
-                               _mm256_unpackhi_epi64(t1, t3));
+            // Pixels 0 and 4, 1 and 5, 2 and 6, 3 and 7, four words each, added from registers.
+            const __m256i p04 = _mm256_unpacklo_epi64(t0, t2), p15 = _mm256_unpackhi_epi64(t0, t2);
+            const __m256i p26 = _mm256_unpacklo_epi64(t1, t3), p37 = _mm256_unpackhi_epi64(t1, t3);
             _mm256_store_si256(reinterpret_cast<__m256i*>(bin), kb);
-            // words holds pixels 0, 4 | 1, 5 | 2, 6 | 3, 7, four words each.
-            for (int j = 0; j < 8; ++j) {
-                const uint32_t* w = words + 8 * (j & 3) + 4 * (j >> 2);
+            const auto add = [&](int j, __m128i w) {
                 __m128i* dst = reinterpret_cast<__m128i*>(acc + 4 * bin[j]);
-                _mm_storeu_si128(
-                    dst, _mm_add_epi32(_mm_loadu_si128(dst),
-                                       _mm_load_si128(reinterpret_cast<const __m128i*>(w))));
-            }
+                _mm_storeu_si128(dst, _mm_add_epi32(_mm_loadu_si128(dst), w));
+            };
+            add(0, _mm256_castsi256_si128(p04));
+            add(1, _mm256_castsi256_si128(p15));
+            add(2, _mm256_castsi256_si128(p26));
+            add(3, _mm256_castsi256_si128(p37));
+            add(4, _mm256_extracti128_si256(p04, 1));
+            add(5, _mm256_extracti128_si256(p15, 1));
+            add(6, _mm256_extracti128_si256(p26, 1));
+            add(7, _mm256_extracti128_si256(p37, 1));
         }
         // The last pixels of the image's last columns: the generic arithmetic.
         if (x <= x1) esfPixels(r, x0, x, x1, sp.u0, e, acc);
