@@ -90,6 +90,10 @@ int patchRowsGeneric(const PatchRows& s, GeometrySpan* out) {
             lo = std::max(lo, centre - s.s2.half);
             hi = std::min(hi, centre + s.s2.half);
         }
+        // A slab nearly along y has a huge slope: clamped to the patch's x range, a row outside
+        // it stays empty and its ends stay small numbers.
+        lo = std::min(lo, s.right + 1.0);
+        hi = std::max(hi, s.left - 1.0);
         const int x0 = std::max(s.bx0, static_cast<int>(std::ceil(lo - 0.5)));
         const int x1 = std::min(s.bx1 - 1, static_cast<int>(std::floor(hi - 0.5)));
         if (x0 > x1) continue;
@@ -117,8 +121,9 @@ constexpr int kMaxLengths = 8;
 // Half-width of the window in which the reported line-spread variance is taken, in its σ, and the
 // contrast-to-spread ratio above which the spread beside an edge counts as noise (fitEsf).
 constexpr double kMomentSigmas = 3.0, kCleanCnr = 20.0;
-// Share of a region's best edge quality an edge needs to set the region's blur (measureBlur).
-constexpr double kTrustedQuality = 0.3;
+// What an edge needs to set the region's blur (measureBlur): a share of the region's best edge
+// quality, and a contrast of this many times the grey-level spread beside it.
+constexpr double kTrustedQuality = 0.3, kTrustedCnr = 3.0;
 
 struct Bounds {
     int x0, y0, x1, y1;  // half-open [x0, x1) × [y0, y1)
@@ -779,9 +784,10 @@ BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& 
     // The sharpest edges set the region's blur. An edge's width is the defocus blur convolved
     // with the edge's own softness (a rounded body, a shadow, a printed gradient), which only
     // widens it: no edge in focus at that depth is sharper than the blur, so the smallest σ
-    // bounds it and wider edges are soft objects or edges at another depth. Only edges of at
-    // least 0.3 × the region's best quality may set it: a cluttered edge (another edge or a
-    // corner in its plateaus) can read narrow, and one such edge must not decide the region.
+    // bounds it and wider edges are soft objects or edges at another depth. Only trusted edges
+    // may set it: at least 0.3 × the region's best quality, and a contrast at least 3 × the
+    // grey-level spread beside the edge. A cluttered edge (another edge or a corner in its
+    // plateaus) can read narrow, and one such edge must not decide the region.
     // The edges within 25 % of the sharpest, either side, are averaged in variance, weighted by
     // quality, against noise.
     double best = 0.0;
@@ -789,7 +795,13 @@ BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& 
         best = std::max(best, e->quality);
     double sharpest = std::numeric_limits<double>::infinity();
     for (const auto* e : good)
-        if (e->quality >= kTrustedQuality * best) sharpest = std::min(sharpest, e->sigmaPx);
+        if (e->quality >= kTrustedQuality * best &&
+            e->contrast >= kTrustedCnr * std::max(e->noise, 0.5))
+            sharpest = std::min(sharpest, e->sigmaPx);
+    // A region of cluttered edges only: the sharpest of them, at their low confidence.
+    if (!std::isfinite(sharpest))
+        for (const auto* e : good)
+            sharpest = std::min(sharpest, e->sigmaPx);
     double sw = 0, sv = 0, sr = 0;
     int agreeing = 0;
     for (const auto* e : good) {

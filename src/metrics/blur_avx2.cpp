@@ -144,6 +144,7 @@ int patchRowsAvx2(const PatchRows& s, GeometrySpan* out) {
     const __m256d slope1 = _mm256_set1_pd(s.s1.slope), half1 = _mm256_set1_pd(s.s1.half);
     const __m256d slope2 = _mm256_set1_pd(s.s2.slope), half2 = _mm256_set1_pd(s.s2.half);
     const __m256d left = _mm256_set1_pd(s.left), right = _mm256_set1_pd(s.right);
+    const __m256d leftEnd = _mm256_set1_pd(s.left - 1.0), rightEnd = _mm256_set1_pd(s.right + 1.0);
     const __m256d half = _mm256_set1_pd(0.5);
     const __m256d bx0 = _mm256_set1_pd(s.bx0), bx1 = _mm256_set1_pd(s.bx1 - 1);
     const __m256d sign = _mm256_set1_pd(-0.0);
@@ -156,10 +157,13 @@ int patchRowsAvx2(const PatchRows& s, GeometrySpan* out) {
         const __m256d dy = _mm256_sub_pd(_mm256_add_pd(vy, half), cy);
         const __m256d c1 = _mm256_add_pd(cx, _mm256_mul_pd(slope1, dy));
         const __m256d c2 = _mm256_add_pd(cx, _mm256_mul_pd(slope2, dy));
-        const __m256d lo =
-            _mm256_max_pd(_mm256_max_pd(left, _mm256_sub_pd(c1, half1)), _mm256_sub_pd(c2, half2));
-        const __m256d hi =
-            _mm256_min_pd(_mm256_min_pd(right, _mm256_add_pd(c1, half1)), _mm256_add_pd(c2, half2));
+        // Clamped to the patch's x range like the generic walk's ends (a slab nearly along y).
+        const __m256d lo = _mm256_min_pd(
+            _mm256_max_pd(_mm256_max_pd(left, _mm256_sub_pd(c1, half1)), _mm256_sub_pd(c2, half2)),
+            rightEnd);
+        const __m256d hi = _mm256_max_pd(
+            _mm256_min_pd(_mm256_min_pd(right, _mm256_add_pd(c1, half1)), _mm256_add_pd(c2, half2)),
+            leftEnd);
         const __m256d x0 = _mm256_max_pd(bx0, _mm256_ceil_pd(_mm256_sub_pd(lo, half)));
         const __m256d x1 = _mm256_min_pd(bx1, _mm256_floor_pd(_mm256_sub_pd(hi, half)));
         const __m256d dx = _mm256_sub_pd(_mm256_add_pd(x0, half), cx);

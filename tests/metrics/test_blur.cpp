@@ -231,7 +231,15 @@ TEST_CASE("the AVX2 patch row walk gives the generic kernel's spans", "[blur][si
     }
     static const uint8_t pixels[4] = {};
     int spans = 0;
+    // Every 0.37 rad, and normals a hair off the axes: a slab nearly along y has a huge slope,
+    // and its rows outside the patch must stay empty (they once became spans from x = −2³¹).
+    std::vector<double> angles;
     for (double angle = 0.0; angle < 6.3; angle += 0.37)
+        angles.push_back(angle);
+    for (double tiny : {1e-11, 1e-9, 1e-6})
+        for (double axis : {0.0, 1.5707963267948966, 3.141592653589793})
+            angles.push_back(axis + tiny);
+    for (double angle : angles)
         for (double hw : {6.0, 9.3})
             for (int bx0 : {0, 37}) {
                 // The generic walk's slabs (see patchSpans): |(x − cx)·a + dy·coef| ≤ h.
@@ -269,6 +277,8 @@ TEST_CASE("the AVX2 patch row walk gives the generic kernel's spans", "[blur][si
                     // Pixel x0 lies inside the patch: |u| ≤ hw, |t| ≤ hl (float rounding aside).
                     CHECK(std::abs(a[i].u0) <= hw + 1e-4);
                     CHECK(std::abs(a[i].t0) <= hl + 1e-4);
+                    CHECK(a[i].x0 >= bx0);
+                    CHECK(a[i].x1 <= 89);
                 }
                 spans += na;
             }
