@@ -105,6 +105,23 @@ int patchRowsGeneric(const PatchRows& s, GeometrySpan* out) {
     return static_cast<int>(out - first);
 }
 
+int esfBinsGeneric(const uint32_t* acc, int from, int n, double binPx, double hw, EsfBin* out) {
+    EsfBin* const first = out;
+    const double unit = binPx / 2048.0;
+    for (int i = from; i < n; ++i) {
+        const uint32_t* a = acc + 4 * i;
+        const auto cnt = static_cast<int>(a[0] >> kEsfCountShift);
+        if (cnt == 0) continue;
+        const double inv = 1.0 / cnt;
+        const double sv = a[0] & ((1u << kEsfCountShift) - 1u);
+        const double v = sv * inv, d = static_cast<int32_t>(a[2]) * unit * inv;
+        const double centre = (i + 0.5) * binPx - hw;
+        *out++ = {centre + d, v, std::max(0.0, a[3] * unit * unit * inv - d * d),
+                  std::max(0.0, static_cast<double>(a[1]) * inv - v * v), cnt};
+    }
+    return static_cast<int>(out - first);
+}
+
 }  // namespace detail
 
 namespace {
@@ -162,16 +179,17 @@ struct Kernels {
     decltype(&detail::countAtLeastGeneric) countAtLeast;
     decltype(&detail::listAtLeastGeneric) listAtLeast;
     decltype(&detail::patchRowsGeneric) patchRows;
+    decltype(&detail::esfBinsGeneric) esfBins;
 };
 
 Kernels chooseKernels(const BlurOptions& o) {
     if (o.simd && detail::haveAvx2())
         return {detail::sobelGridRowAvx2,   detail::geometryRowsAvx2, detail::esfRowsAvx2,
                 detail::geometryReduceAvx2, detail::countAtLeastAvx2, detail::listAtLeastAvx2,
-                detail::patchRowsAvx2};
+                detail::patchRowsAvx2,      detail::esfBinsAvx2};
     return {detail::sobelGridRowGeneric,   detail::geometryRowsGeneric, detail::esfRowsGeneric,
             detail::geometryReduceGeneric, detail::countAtLeastGeneric, detail::listAtLeastGeneric,
-            detail::patchRowsGeneric};
+            detail::patchRowsGeneric,      detail::esfBinsGeneric};
 }
 
 // Edge candidates: a Sobel gradient (grey levels per pixel) on a sparse grid of the region,
@@ -362,10 +380,7 @@ void moveOnto(Patch& p, const LineFit& f) {
     p.ny = ny / len;
 }
 
-struct Bin {
-    double pos, value, withinVar, pixelVar;
-    int count;
-};
+using Bin = detail::EsfBin;
 
 struct EsfFit {
     bool ok = false;
@@ -573,23 +588,10 @@ void sampleEsf(const Luma8& img, const Bounds& b, const Kernels& k, const Patch&
     acc.assign(4 * static_cast<size_t>(n + 1), 0u);
     const auto& spans = patchSpans(img, b, p, k);
     k.esfRows(spans.data(), static_cast<int>(spans.size()), img.width, e, acc.data());
-    // One division per bin (by its count), written in place: this runs for every bin of every
-    // ESF, a hundred thousand times a frame.
+    // Written in place, one division per bin: this runs for every bin of every ESF, a hundred
+    // thousand times a frame.
     bins.resize(n);
-    Bin* out = bins.data();
-    const double unit = binPx / 2048.0;
-    for (int i = 0; i < n; ++i) {
-        const uint32_t* a = acc.data() + 4 * i;
-        const auto cnt = static_cast<int>(a[0] >> detail::kEsfCountShift);
-        if (cnt == 0) continue;
-        const double inv = 1.0 / cnt;
-        const double sv = a[0] & ((1u << detail::kEsfCountShift) - 1u);
-        const double v = sv * inv, d = static_cast<int32_t>(a[2]) * unit * inv;
-        const double centre = (i + 0.5) * binPx - p.hw;
-        *out++ = {centre + d, v, std::max(0.0, a[3] * unit * unit * inv - d * d),
-                  std::max(0.0, static_cast<double>(a[1]) * inv - v * v), cnt};
-    }
-    bins.resize(out - bins.data());
+    bins.resize(k.esfBins(acc.data(), 0, n, binPx, p.hw, bins.data()));
 }
 
 // Half-width (px) of the slab across the edge in which the geometry is first fitted.

@@ -182,6 +182,51 @@ int patchRowsAvx2(const PatchRows& s, GeometrySpan* out) {
     return static_cast<int>(out - first);
 }
 
+int esfBinsAvx2(const uint32_t* acc, int from, int n, double binPx, double hw, EsfBin* out) {
+    EsfBin* const first = out;
+    const double unit = binPx / 2048.0;
+    const __m256d vunit = _mm256_set1_pd(unit), vbin = _mm256_set1_pd(binPx);
+    const __m256d vhw = _mm256_set1_pd(hw), one = _mm256_set1_pd(1.0), half = _mm256_set1_pd(0.5);
+    const __m256d zero = _mm256_setzero_pd();
+    const __m128i mask = _mm_set1_epi32((1 << kEsfCountShift) - 1);
+    alignas(32) double pos[4], value[4], within[4], pixel[4];
+    alignas(16) int32_t count[4];
+    int i = from;
+    for (; i + 4 <= n; i += 4) {
+        // Four bins' four words, transposed into one vector per word.
+        const __m128i b0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(acc + 4 * i));
+        const __m128i b1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(acc + 4 * i + 4));
+        const __m128i b2 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(acc + 4 * i + 8));
+        const __m128i b3 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(acc + 4 * i + 12));
+        const __m128i t0 = _mm_unpacklo_epi32(b0, b1), t1 = _mm_unpackhi_epi32(b0, b1);
+        const __m128i t2 = _mm_unpacklo_epi32(b2, b3), t3 = _mm_unpackhi_epi32(b2, b3);
+        const __m128i w0 = _mm_unpacklo_epi64(t0, t2), w1 = _mm_unpackhi_epi64(t0, t2);
+        const __m128i w2 = _mm_unpacklo_epi64(t1, t3), w3 = _mm_unpackhi_epi64(t1, t3);
+        const __m128i cnt = _mm_srli_epi32(w0, kEsfCountShift);
+        if (_mm_testz_si128(cnt, cnt)) continue;
+        // esfBinsGeneric's operations, in the same order.
+        const __m256d inv = _mm256_div_pd(one, _mm256_cvtepi32_pd(cnt));
+        const __m256d v = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm_and_si128(w0, mask)), inv);
+        const __m256d d = _mm256_mul_pd(_mm256_mul_pd(_mm256_cvtepi32_pd(w2), vunit), inv);
+        const __m256d k = _mm256_setr_pd(i, i + 1.0, i + 2.0, i + 3.0);
+        const __m256d centre = _mm256_sub_pd(_mm256_mul_pd(_mm256_add_pd(k, half), vbin), vhw);
+        const __m256d wv = _mm256_sub_pd(
+            _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(_mm256_cvtepi32_pd(w3), vunit), vunit), inv),
+            _mm256_mul_pd(d, d));
+        const __m256d pv =
+            _mm256_sub_pd(_mm256_mul_pd(_mm256_cvtepi32_pd(w1), inv), _mm256_mul_pd(v, v));
+        // max(x, 0) keeps std::max(0.0, x)'s result for −0 and NaN: +0.
+        _mm256_store_pd(pos, _mm256_add_pd(centre, d));
+        _mm256_store_pd(value, v);
+        _mm256_store_pd(within, _mm256_max_pd(wv, zero));
+        _mm256_store_pd(pixel, _mm256_max_pd(pv, zero));
+        _mm_store_si128(reinterpret_cast<__m128i*>(count), cnt);
+        for (int j = 0; j < 4; ++j)
+            if (count[j] > 0) *out++ = {pos[j], value[j], within[j], pixel[j], count[j]};
+    }
+    return static_cast<int>(out - first) + esfBinsGeneric(acc, i, n, binPx, hw, out);
+}
+
 size_t countAtLeastAvx2(const int32_t* m, size_t n, int32_t v) {
     const __m256i below = _mm256_set1_epi32(v - 1);
     size_t count = 0, i = 0;

@@ -162,6 +162,23 @@ inline void esfPixels(const uint8_t* r, int x0, int from, int x1, float u0, cons
     }
 }
 
+/// One ESF bin: mean position across the edge (px from the patch centre), mean grey level, the
+/// variance of its pixels' positions and of their grey levels, and its pixel count.
+struct EsfBin {
+    double pos, value, withinVar, pixelVar;
+    int count;
+};
+
+/// Turns bins @p from..n−1 of the integer sums @p acc (as the ESF kernels leave them; bins of
+/// @p binPx across a patch of half-width @p hw) into EsfBins, skipping empty bins; returns how
+/// many:
+/// with inv = 1/count and unit = binPx/2048, d = Σδ·unit·inv, pos = ((k + ½)·binPx − hw) + d,
+/// value = Σv·inv, withinVar = max(0, Σδ²·unit·unit·inv − d²), pixelVar = max(0, Σv²·inv −
+/// value²), in that order of double operations.
+int esfBinsGeneric(const uint32_t* acc, int from, int n, double binPx, double hw, EsfBin* out);
+/// esfBinsGeneric with AVX2 (check haveAvx2() first), four bins at a time: the same bins.
+int esfBinsAvx2(const uint32_t* acc, int from, int n, double binPx, double hw, EsfBin* out);
+
 /// Bins the pixels of the @p count rows @p spans (of an image @p width pixels wide) into @p acc,
 /// four unsigned words per bin plus one spare bin (index bins) for the pixels outside:
 /// [Σv + count·2²⁰, Σv², Σδ, Σδ²]. Integer (wrapping) additions: any order of the pixels gives

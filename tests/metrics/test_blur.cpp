@@ -184,6 +184,26 @@ TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][si
                         for (int k = 0; k <= e.bins; ++k)
                             counted += e1[4 * k] >> detail::kEsfCountShift;
                         CHECK(counted == static_cast<uint32_t>(2 * n));
+                        // The bins in double: the same values, empty bins skipped.
+                        std::vector<detail::EsfBin> b0(e.bins), b1(e.bins);
+                        const int n0 =
+                            detail::esfBinsGeneric(e1.data(), 0, e.bins, bp, 7.0, b0.data());
+                        const int n1 =
+                            detail::esfBinsAvx2(e1.data(), 0, e.bins, bp, 7.0, b1.data());
+                        REQUIRE(n0 == n1);
+                        int pixels = 0;
+                        for (int i = 0; i < n0; ++i) {
+                            CHECK(b0[i].pos == b1[i].pos);
+                            CHECK(b0[i].value == b1[i].value);
+                            CHECK(b0[i].withinVar == b1[i].withinVar);
+                            CHECK(b0[i].pixelVar == b1[i].pixelVar);
+                            CHECK(b0[i].count == b1[i].count);
+                            // A bin's mean position lies inside it.
+                            CHECK(std::abs(b0[i].pos) <= 7.0 + 1e-9);
+                            pixels += b0[i].count;
+                        }
+                        CHECK(pixels == static_cast<int>(
+                                            counted - (e1[4 * e.bins] >> detail::kEsfCountShift)));
                     }
                 }
             }
