@@ -140,7 +140,7 @@ constexpr int kMaxLengths = 8;
 constexpr double kMomentSigmas = 3.0, kCleanCnr = 20.0;
 // What an edge needs to set the region's blur (measureBlur): a share of the region's best edge
 // quality, and a contrast of this many times the grey-level spread beside it.
-constexpr double kTrustedQuality = 0.3, kTrustedCnr = 3.0;
+constexpr double kTrustedQuality = 0.3, kTrustedCnr = 5.0;
 
 struct Bounds {
     int x0, y0, x1, y1;  // half-open [x0, x1) × [y0, y1)
@@ -787,7 +787,7 @@ BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& 
     // with the edge's own softness (a rounded body, a shadow, a printed gradient), which only
     // widens it: no edge in focus at that depth is sharper than the blur, so the smallest σ
     // bounds it and wider edges are soft objects or edges at another depth. Only trusted edges
-    // may set it: at least 0.3 × the region's best quality, and a contrast at least 3 × the
+    // may set it: at least 0.3 × the region's best quality, and a contrast at least 5 × the
     // grey-level spread beside the edge. A cluttered edge (another edge or a corner in its
     // plateaus) can read narrow, and one such edge must not decide the region.
     // The edges within 25 % of the sharpest, either side, are averaged in variance, weighted by
