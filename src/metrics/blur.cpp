@@ -76,20 +76,15 @@ int patchRowsGeneric(const PatchRows& s, GeometrySpan* out) {
     for (int y = s.y0; y <= s.y1; ++y) {
         const double dy = y + 0.5 - s.cy;
         double lo = s.left, hi = s.right;
-        if (s.s1.open) {
-            if (std::abs(s.s1.c * dy) > s.s1.h) continue;
-        } else {
-            const double centre = s.cx + s.s1.slope * dy;
-            lo = std::max(lo, centre - s.s1.half);
-            hi = std::min(hi, centre + s.s1.half);
-        }
-        if (s.s2.open) {
-            if (std::abs(s.s2.c * dy) > s.s2.h) continue;
-        } else {
-            const double centre = s.cx + s.s2.slope * dy;
-            lo = std::max(lo, centre - s.s2.half);
-            hi = std::min(hi, centre + s.s2.half);
-        }
+        // Narrows [lo, hi] to the slab; false when an open slab excludes the row.
+        const auto inside = [&](const PatchSlab& slab) {
+            if (slab.open) return std::abs(slab.c * dy) <= slab.h;
+            const double centre = s.cx + slab.slope * dy;
+            lo = std::max(lo, centre - slab.half);
+            hi = std::min(hi, centre + slab.half);
+            return true;
+        };
+        if (!inside(s.s1) || !inside(s.s2)) continue;
         // A slab nearly along y has a huge slope: clamped to the patch's x range, a row outside
         // it stays empty and its ends stay small numbers.
         lo = std::min(lo, s.right + 1.0);
