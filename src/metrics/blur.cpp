@@ -65,9 +65,7 @@ size_t countAtLeastGeneric(const int32_t* m, size_t n, int32_t v) {
 size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys) {
     size_t listed = 0;
     for (size_t i = 0; i < n; ++i)
-        if (m[i] >= v)
-            keys[listed++] =
-                (static_cast<uint64_t>(m[i]) << 32) | (0xffffffffu - static_cast<uint32_t>(i));
+        if (m[i] >= v) keys[listed++] = candidateKey(m[i], i);
     return listed;
 }
 
@@ -154,17 +152,6 @@ struct Patch {
     double t(double x, double y) const { return -(x - cx) * ny + (y - cy) * nx; }
 };
 
-// ⌊v⌋ and ⌈v⌉ for |v| < 2³¹ (image coordinates): the truncation corrected by one compare, cheaper
-// than the library's rounding without SSE4.1, and exact.
-inline int floorInt(double v) {
-    const int i = static_cast<int>(v);
-    return i - (v < i);
-}
-inline int ceilInt(double v) {
-    const int i = static_cast<int>(v);
-    return i + (v > i);
-}
-
 // The pixel kernels: AVX2 when the CPU has it and the options allow, else the generic reference.
 struct Kernels {
     decltype(&detail::sobelGridRowGeneric) sobelGridRow;
@@ -195,9 +182,9 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
     const int y0 = std::max(roi.y0, 1), y1 = std::min(roi.y1, img.height - 1);
     const int x0 = std::max(roi.x0, 1), x1 = std::min(roi.x1, img.width - 1);
     if (x0 >= x1 || y0 >= y1) return {};
-    // One pass stores the grid's gradients (whole rows by the kernel, every step-th kept), the
-    // region's peak with them; the threshold relative to it then picks the candidates in scan
-    // order, as the strongest-first sort below expects. Scratch is reused across regions.
+    // One pass stores the grid's gradients and magnitudes (the kernel computes only the grid's
+    // points) and the region's peak; the threshold relative to it then picks the candidates.
+    // Scratch is reused across regions.
     const int n = x1 - x0;
     const int perRow = (n + step - 1) / step;
     const size_t gridSize = static_cast<size_t>(perRow) * ((y1 - y0 + step - 1) / step);
@@ -249,7 +236,7 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
     std::sort(keys.begin(), keys.begin() + m, std::greater<>());
     std::vector<Candidate> out(m);
     for (size_t i = 0; i < m; ++i) {
-        const size_t q = 0xffffffffu - static_cast<uint32_t>(keys[i]);
+        const size_t q = detail::candidateIndex(keys[i]);
         out[i] = {x0 + static_cast<int>(q % perRow) * step,
                   y0 + static_cast<int>(q / perRow) * step, gridX[q] / 8.0f, gridY[q] / 8.0f,
                   static_cast<float>(gridM[q]) * (1.0f / 64.0f)};
@@ -675,11 +662,14 @@ Bounds clipRect(const Rect& r, int w, int h) {
 
 std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
                                           const BlurOptions& given) {
-    // The ESF kernels' integer sums hold up to 2047 pixels a bin: bins of at most 1 px along
-    // segments of at most 1000 px (a bin of an axis-aligned edge takes one column of the patch).
+    // The ESF kernels' integer sums hold kEsfMaxBinPixels pixels a bin: bins of at most 1 px
+    // along segments of at most 2 × 500 px (a bin of an axis-aligned edge takes one column of
+    // the patch, one pixel a row).
+    constexpr double kMaxHalfLengthPx = 500.0;
+    static_assert(2 * kMaxHalfLengthPx + 1 <= detail::kEsfMaxBinPixels);
     BlurOptions options = given;
     options.binPx = std::clamp(given.binPx, 1.0 / 16.0, 1.0);
-    options.edgeHalfLengthPx = std::min(given.edgeHalfLengthPx, 500.0);
+    options.edgeHalfLengthPx = std::min(given.edgeHalfLengthPx, kMaxHalfLengthPx);
     std::vector<EdgeMeasurement> out;
     if (luma.empty() || luma.width < 3 || luma.height < 3) return out;
     const Bounds r = clipRect(roi, luma.width, luma.height);

@@ -248,15 +248,12 @@ size_t listAtLeastAvx2(const int32_t* m, size_t n, int32_t v, uint64_t* keys) {
             _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(x, below))));
         while (bits) {
             const size_t j = i + static_cast<size_t>(__builtin_ctz(bits));
-            keys[listed++] =
-                (static_cast<uint64_t>(m[j]) << 32) | (0xffffffffu - static_cast<uint32_t>(j));
+            keys[listed++] = candidateKey(m[j], j);
             bits &= bits - 1;
         }
     }
     for (; i < n; ++i)
-        if (m[i] >= v)
-            keys[listed++] =
-                (static_cast<uint64_t>(m[i]) << 32) | (0xffffffffu - static_cast<uint32_t>(i));
+        if (m[i] >= v) keys[listed++] = candidateKey(m[i], i);
     return listed;
 }
 

@@ -20,12 +20,22 @@ int32_t sobelGridRowGeneric(const uint8_t* above, const uint8_t* mid, const uint
 int32_t sobelGridRowAvx2(const uint8_t* above, const uint8_t* mid, const uint8_t* below, int x0,
                          int count, int step, int width, int16_t* gx, int16_t* gy, int32_t* mag2);
 
+/// A candidate's 64-bit key: its |g|² @p mag2 above its complemented grid index @p i, so that
+/// the larger key is the stronger point and equal gradients come in scan order.
+inline uint64_t candidateKey(int32_t mag2, size_t i) {
+    return (static_cast<uint64_t>(mag2) << 32) | (0xffffffffu - static_cast<uint32_t>(i));
+}
+/// The grid index of a candidateKey.
+inline size_t candidateIndex(uint64_t key) {
+    return 0xffffffffu - static_cast<uint32_t>(key);
+}
+
 /// Number of the @p n values @p m[i] that are at least @p v (v ≥ 0).
 size_t countAtLeastGeneric(const int32_t* m, size_t n, int32_t v);
 /// countAtLeastGeneric with AVX2 (check haveAvx2() first).
 size_t countAtLeastAvx2(const int32_t* m, size_t n, int32_t v);
-/// Writes the key (m[i] · 2³² + 2³² − 1 − i) of every i with m[i] ≥ @p v (v ≥ 0) to @p keys, in
-/// order of i, and returns how many it wrote.
+/// Writes the candidateKey of every i with m[i] ≥ @p v (v ≥ 0) to @p keys, in order of i, and
+/// returns how many it wrote.
 size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys);
 /// listAtLeastGeneric with AVX2 (check haveAvx2() first).
 size_t listAtLeastAvx2(const int32_t* m, size_t n, int32_t v, uint64_t* keys);
