@@ -29,7 +29,8 @@ struct BlurSample {
 /// How to fit.
 struct PlaneFitOptions {
     /// In-focus blur floor in pixels, removed in quadrature from each sample before the fit
-    /// (b' = sqrt(b² − floor²), 0 when b ≤ floor).
+    /// (b' = sqrt(b² − floor²)). A sample at or below it only bounds the fit (|model| ≤ floor):
+    /// it is censored, so that a map mostly at the floor is not fitted by the flat plane p = 0.
     double blurFloor = 0.0;
     int hypotheses = 2000;      ///< random triples tried by the LMedS search (4 sign choices each)
     uint32_t seed = 12345;      ///< random seed, so a fit is reproducible

@@ -23,6 +23,7 @@ namespace {
 struct Point {
     double x, y, b, w;
     size_t index;
+    bool censored;  // read at or below the blur floor: only |model| ≤ floor is known
 };
 
 // Solves the 3x3 system m·q = r by Gaussian elimination with partial pivoting.
@@ -67,13 +68,43 @@ double median(std::vector<double>& v) {
     return v[mid];
 }
 
-// Median of |measured − |model||: the LMedS cost of a hypothesis.
-double medianAbsResidual(const std::array<double, 3>& q, const std::vector<Point>& pts,
-                         std::vector<double>& scratch) {
+// Residual of @p p under @p q: measured − |model|; for a censored sample (at or below the floor
+// @p floor) only the model's excess over the floor counts, as a negative residual.
+double residual(const std::array<double, 3>& q, const Point& p, double floor) {
+    const double m = std::abs(eval(q, p));
+    return p.censored ? -std::max(0.0, m - floor) : p.b - m;
+}
+
+// The LMedS cost of a hypothesis: the median of |residual|. With censored samples it is the
+// median over the measured ones plus the median excess over the censored ones: a region read at
+// the floor says only that the blur there is small, and when more than half the regions read so
+// the plain median would be zero for the flat plane p = 0, whatever the rest show.
+double lmedsCost(const std::array<double, 3>& q, const std::vector<Point>& pts, double floor,
+                 bool censoring, std::vector<double>& scratch) {
+    if (!censoring) {
+        scratch.clear();
+        for (const auto& p : pts)
+            scratch.push_back(std::abs(residual(q, p, floor)));
+        return median(scratch);
+    }
+    double cost = 0.0;
+    for (const bool censored : {false, true}) {
+        scratch.clear();
+        for (const auto& p : pts)
+            if (p.censored == censored) scratch.push_back(std::abs(residual(q, p, floor)));
+        cost += median(scratch);
+    }
+    return cost;
+}
+
+// Robust scale: 1.4826 × the median |residual| (of the measured samples alone when censoring),
+// times @p correction.
+double madSigma(const std::vector<double>& residuals, const std::vector<Point>& pts, bool censoring,
+                double correction, std::vector<double>& scratch) {
     scratch.clear();
-    for (const auto& p : pts)
-        scratch.push_back(std::abs(p.b - std::abs(eval(q, p))));
-    return median(scratch);
+    for (size_t i = 0; i < pts.size(); ++i)
+        if (!censoring || !pts[i].censored) scratch.push_back(std::abs(residuals[i]));
+    return 1.4826 * correction * median(scratch);
 }
 
 // Weighted least squares of s_i·b_i ≈ q·(1, x, y) with weights w_i.
@@ -148,10 +179,21 @@ std::optional<BlurPlane> fitBlurPlane(std::span<const BlurSample> samples, int w
             continue;
         const double f = options.blurFloor;
         const double b = s.blur > f ? std::sqrt(s.blur * s.blur - f * f) : 0.0;
-        pts.push_back({(s.x - cx) / scale, (s.y - cy) / scale, b, std::min(s.weight, 1.0), i});
+        pts.push_back({(s.x - cx) / scale, (s.y - cy) / scale, b, std::min(s.weight, 1.0), i,
+                       f > 0.0 && s.blur <= f});
     }
     const size_t n = pts.size();
     if (n < 3) return std::nullopt;
+    // With a floor, a sample at or below it is censored: it bounds the model (|model| ≤ floor,
+    // in floor-removed pixels) instead of fixing it. Used when both kinds are present and at
+    // least three samples are measured; otherwise every sample counts as measured.
+    const double floor = options.blurFloor;
+    const size_t censoredCount = static_cast<size_t>(
+        std::count_if(pts.begin(), pts.end(), [](const Point& p) { return p.censored; }));
+    const bool censoring = censoredCount > 0 && n - censoredCount >= 3;
+    if (!censoring)
+        for (auto& p : pts)
+            p.censored = false;
 
     // (1) LMedS search over triples and sign patterns (the first sign is fixed: −q fits equally).
     // The median is unweighted on purpose: weighting it by confidence let confident wide-blur
@@ -174,7 +216,7 @@ std::optional<BlurPlane> fitBlurPlane(std::span<const BlurSample> samples, int w
                                             (signs & 2) ? -t[2]->b : t[2]->b};
             const auto q = solve3(m, rhs);
             if (!q) break;  // collinear triple: no sign pattern helps
-            const double cost = medianAbsResidual(*q, pts, scratch);
+            const double cost = lmedsCost(*q, pts, floor, censoring, scratch);
             if (cost < bestCost) {
                 bestCost = cost;
                 best = q;
@@ -204,14 +246,14 @@ std::optional<BlurPlane> fitBlurPlane(std::span<const BlurSample> samples, int w
     meanBlur /= static_cast<double>(n);
     const double sigmaFloor = 1e-9 * std::max(1.0, meanBlur);
     for (int iter = 0; iter < 50; ++iter) {
-        scratch.clear();
-        for (size_t i = 0; i < n; ++i) {
-            residuals[i] = pts[i].b - std::abs(eval(q, pts[i]));
-            scratch.push_back(std::abs(residuals[i]));
-        }
-        sigma = std::max(1.4826 * median(scratch), sigmaFloor);
         for (size_t i = 0; i < n; ++i)
-            weights[i] = pts[i].w * tukey(residuals[i], 4.685 * sigma);
+            residuals[i] = residual(q, pts[i], floor);
+        sigma = std::max(madSigma(residuals, pts, censoring, 1.0, scratch), sigmaFloor);
+        // A censored sample within its bound adds nothing; beyond it, it pulls the model down.
+        for (size_t i = 0; i < n; ++i)
+            weights[i] = pts[i].censored && residuals[i] == 0.0
+                             ? 0.0
+                             : pts[i].w * tukey(residuals[i], 4.685 * sigma);
         const auto next = weightedFit(pts, weights, q);
         if (!next) break;
         const double change =
@@ -234,15 +276,14 @@ std::optional<BlurPlane> fitBlurPlane(std::span<const BlurSample> samples, int w
     out.fitted.assign(samples.size(), 0.0);
     for (size_t i = 0; i < samples.size(); ++i)
         out.fitted[i] = std::abs(out.signedAt(samples[i].x, samples[i].y));
-    scratch.clear();
-    for (size_t i = 0; i < n; ++i) {
-        residuals[i] = pts[i].b - std::abs(eval(q, pts[i]));
-        scratch.push_back(std::abs(residuals[i]));
-    }
+    for (size_t i = 0; i < n; ++i)
+        residuals[i] = residual(q, pts[i], floor);
     // LMedS scale with Rousseeuw's small-sample correction.
-    out.robustSigma =
-        std::max(1.4826 * (1.0 + 5.0 / std::max<double>(1.0, double(n) - 3.0)) * median(scratch),
-                 sigmaFloor);
+    const size_t measured = censoring ? n - censoredCount : n;
+    out.robustSigma = std::max(
+        madSigma(residuals, pts, censoring,
+                 1.0 + 5.0 / std::max<double>(1.0, static_cast<double>(measured) - 3.0), scratch),
+        sigmaFloor);
     double sum2 = 0.0;
     for (size_t i = 0; i < n; ++i) {
         if (std::abs(residuals[i]) > options.inlierSigmas * out.robustSigma) continue;

@@ -165,3 +165,31 @@ TEST_CASE("degenerate inputs have no answer", "[plane_fit]") {
     std::vector<BlurSample> weak{{0, 0, 1, 0}, {10, 0, 2, 1}, {0, 10, 3, 1}};
     CHECK_FALSE(fitBlurPlane(weak, 100, 100));
 }
+
+TEST_CASE("regions at the blur floor bound the plane and do not flatten it", "[plane_fit]") {
+    // Signed blur 0.005·(y − 360) px on an 8×6 grid of a 1280×720 image: rows at ±1.5, ±0.9 and
+    // ±0.3 px. With a 1.2 px floor the four middle rows (32 of 48 regions) read just below the
+    // floor; the outer rows read √(q² + floor²). More than half the map is at the floor, where
+    // the flat plane p = 0 has a median residual of zero: the fit must still find the gradient.
+    const double floor = 1.2, gradient = 0.005;
+    std::vector<BlurSample> samples;
+    for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 8; ++c) {
+            const double x = 80.0 + 160.0 * c, y = 60.0 + 120.0 * r;
+            const double q = gradient * (y - 360.0);
+            const double read = std::abs(q) < 1.0 ? floor - 0.05 : std::sqrt(q * q + floor * floor);
+            samples.push_back({x, y, read, 1.0});
+        }
+    PlaneFitOptions options;
+    options.blurFloor = floor;
+    const auto fit = fitBlurPlane(samples, 1280, 720, options);
+    REQUIRE(fit);
+    INFO("p = " << fit->p[0] << ", " << fit->p[1] << ", " << fit->p[2]);
+    // The outer rows fix |q| there exactly; the bound rows only say |q| ≤ floor: ±2 %.
+    CHECK(fit->gradient == Approx(gradient).epsilon(0.02));
+    CHECK(std::abs(fit->p[1]) < 1e-4);  // no blur change along x
+    REQUIRE(fit->inFocusLine);
+    CHECK(fit->inFocusLine->y0 == Approx(360.0).margin(5.0));
+    CHECK(fit->inFocusLine->y1 == Approx(360.0).margin(5.0));
+    CHECK(fit->inliers == 48);
+}
