@@ -97,13 +97,13 @@ double lmedsCost(const std::array<double, 3>& q, const std::vector<Point>& pts, 
     return cost;
 }
 
-// Robust scale: 1.4826 × the median |residual| (of the measured samples alone when censoring),
-// times @p correction.
-double madSigma(const std::vector<double>& residuals, const std::vector<Point>& pts, bool censoring,
+// Robust scale: 1.4826 × the median |residual| of the measured (uncensored) samples, times
+// @p correction.
+double madSigma(const std::vector<double>& residuals, const std::vector<Point>& pts,
                 double correction, std::vector<double>& scratch) {
     scratch.clear();
     for (size_t i = 0; i < pts.size(); ++i)
-        if (!censoring || !pts[i].censored) scratch.push_back(std::abs(residuals[i]));
+        if (!pts[i].censored) scratch.push_back(std::abs(residuals[i]));
     return 1.4826 * correction * median(scratch);
 }
 
@@ -248,7 +248,7 @@ std::optional<BlurPlane> fitBlurPlane(std::span<const BlurSample> samples, int w
     for (int iter = 0; iter < 50; ++iter) {
         for (size_t i = 0; i < n; ++i)
             residuals[i] = residual(q, pts[i], floor);
-        sigma = std::max(madSigma(residuals, pts, censoring, 1.0, scratch), sigmaFloor);
+        sigma = std::max(madSigma(residuals, pts, 1.0, scratch), sigmaFloor);
         // A censored sample within its bound adds nothing; beyond it, it pulls the model down.
         for (size_t i = 0; i < n; ++i)
             weights[i] = pts[i].censored && residuals[i] == 0.0
@@ -281,7 +281,7 @@ std::optional<BlurPlane> fitBlurPlane(std::span<const BlurSample> samples, int w
     // LMedS scale with Rousseeuw's small-sample correction.
     const size_t measured = censoring ? n - censoredCount : n;
     out.robustSigma = std::max(
-        madSigma(residuals, pts, censoring,
+        madSigma(residuals, pts,
                  1.0 + 5.0 / std::max<double>(1.0, static_cast<double>(measured) - 3.0), scratch),
         sigmaFloor);
     double sum2 = 0.0;
