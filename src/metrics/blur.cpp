@@ -660,9 +660,11 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
                                               double threshold, LineFit line, int slices) {
     const double sd0 = guessSigma(line);
     patch.hw = std::clamp(4.5 * sd0 + 3.5, kProbeHalfWidthPx, o.maxHalfWidthPx);
-    // A derivative wider than the probe's slab was cut by it, and a line turned by more than a
-    // pixel over the segment was fitted in a slab that does not follow it: fit again in place.
-    bool refit = patch.hw > 1.5 * kProbeHalfWidthPx || std::abs(line.slope) * patch.hl > 1.0;
+    // The probe's slab (±kProbeHalfWidthPx about the seed) cut the derivative where the line,
+    // at its furthest from the seed along the segment, plus 3 σ of the guessed spread reaches
+    // the slab's side: then the line is fitted again in the patch's own slab. Otherwise every
+    // slice held its derivative and the probe's centroids stand.
+    bool refit = std::abs(line.a) + std::abs(line.slope) * patch.hl + 3.0 * sd0 > kProbeHalfWidthPx;
     thread_local std::vector<Slice> sl;
     sl.resize(slices);
     thread_local std::vector<Bin> bins;
