@@ -418,22 +418,29 @@ struct Moments {
 };
 
 // The terms of each pair of neighbouring bins (i, i + 1) that lineSpreadMoments adds up, computed
-// once per ESF: the step l = v[i+1] − v[i] with l·x, l·x², l·c, and the midpoint x and the bins'
-// own spread c for the window's end pairs, whose step runs from or to a plateau level instead.
+// once per ESF: the step l = v[i+1] − v[i] and its products l·x, l·x², l·c as running sums
+// (entry k holds the sum over the pairs before k), so that the fit's every window costs the same
+// whatever its width; and the midpoint x and the bins' own spread c for the window's end pairs,
+// whose step runs from or to a plateau level instead.
 struct PairTerms {
-    std::vector<double> l, lx, lxx, lc, x, c;
+    std::vector<double> sl, slx, slxx, slc, x, c;
     void set(const std::vector<Bin>& bins) {
         const size_t n = bins.size() - 1;
-        for (auto* v : {&l, &lx, &lxx, &lc, &x, &c})
+        for (auto* v : {&x, &c})
             v->resize(n);
+        for (auto* v : {&sl, &slx, &slxx, &slc})
+            v->resize(n + 1);
+        double a = 0, b = 0, d = 0, e = 0;
+        sl[0] = slx[0] = slxx[0] = slc[0] = 0.0;
         for (size_t i = 0; i < n; ++i) {
             const double step = bins[i + 1].value - bins[i].value;
             const double mid = 0.5 * (bins[i].pos + bins[i + 1].pos);
             const double gap = bins[i + 1].pos - bins[i].pos;
             const double spread =
                 gap * gap / 12.0 + 0.5 * (bins[i].withinVar + bins[i + 1].withinVar);
-            l[i] = step, x[i] = mid, c[i] = spread;
-            lx[i] = step * mid, lxx[i] = step * mid * mid, lc[i] = step * spread;
+            x[i] = mid, c[i] = spread;
+            a += step, b += step * mid, d += step * mid * mid, e += step * spread;
+            sl[i + 1] = a, slx[i + 1] = b, slxx[i + 1] = d, slc[i + 1] = e;
         }
     }
 };
@@ -448,13 +455,14 @@ Moments lineSpreadMoments(const PairTerms& t, size_t il, size_t ir, double lo, d
         m2 += l * t.x[i] * t.x[i];
         corr += l * t.c[i];
     };
-    // The first pair steps up from the low plateau, the last to the high one.
+    // The first pair steps up from the low plateau, the last to the high one; the pairs between
+    // them from the running sums.
     add(il, (il + 1 == ir ? hi : bins[il + 1].value) - lo);
-    for (size_t i = il + 1; i + 1 < ir; ++i) {
-        m0 += t.l[i];
-        m1 += t.lx[i];
-        m2 += t.lxx[i];
-        corr += t.lc[i];
+    if (ir > il + 2) {
+        m0 += t.sl[ir - 1] - t.sl[il + 1];
+        m1 += t.slx[ir - 1] - t.slx[il + 1];
+        m2 += t.slxx[ir - 1] - t.slxx[il + 1];
+        corr += t.slc[ir - 1] - t.slc[il + 1];
     }
     if (ir > il + 1) add(ir - 1, hi - bins[ir - 1].value);
     const double mean = m1 / m0;
@@ -581,14 +589,21 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
     // A clean edge rises monotonically from one plateau to the other. A second edge inside the
     // window (a thin line, a small blob, crowded texture) overshoots a plateau: measure by how
     // much, on the ESF averaged over 1 px so that noise does not count.
+    // The bins within the window, each with those less than 1 px after it (a running sum).
     double overshoot = 0.0;
-    for (size_t i = 0; i < bins.size(); ++i) {
-        if (std::abs(bins[i].pos - mu) > radius) continue;
-        double sum = 0, n = 0;
-        for (size_t j = i; j < bins.size() && bins[j].pos < bins[i].pos + 1.0; ++j)
+    size_t i = static_cast<size_t>(
+        std::partition_point(bins.begin(), bins.end(),
+                             [&](const Bin& b) { return b.pos < mu - radius; }) -
+        bins.begin());
+    size_t j = i;
+    double sum = 0.0;
+    int n = 0;
+    for (; i < bins.size() && bins[i].pos <= mu + radius; ++i) {
+        for (; j < bins.size() && bins[j].pos < bins[i].pos + 1.0; ++j)
             sum += bins[j].value * bins[j].count, n += bins[j].count;
         const double v = sum / n;
         overshoot = std::max({overshoot, v - (f.lo + f.contrast), f.lo - v});
+        sum -= bins[i].value * bins[i].count, n -= bins[i].count;
     }
     f.overshoot = overshoot / f.contrast;
     f.ok = true;
