@@ -749,8 +749,13 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
             ? options.edgeHalfLengthPx
             : std::clamp(0.25 * std::min(r.x1 - r.x0, r.y1 - r.y0), 8.0, 48.0);
     const Kernels kernels = chooseKernels(options);
+    // The 64 strongest candidates first. A region without an edge yet whose candidates were all
+    // passed over or covered (crossed by many lines stronger than its edges: traces, wires, text)
+    // lists the next, weaker ones, four times as many each time. Equal gradients keep their scan
+    // order, so a longer list starts with the shorter one.
+    size_t cap = 64;
     CandidateGrid grid;
-    std::vector<Candidate> cands = findCandidates(luma, r, options, kernels, 64, grid);
+    std::vector<Candidate> cands = findCandidates(luma, r, options, kernels, cap, grid);
     // Segment lengths, halved from the longest down to 6 px, share one probe: its slices along
     // the edge nest, the central 4·2^j of them covering the j-th shortest length.
     double lengths[kMaxLengths];
@@ -766,8 +771,15 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
     // more per 128 × 128 px so that a large region (a coarse grid on a big sensor) is not judged
     // by its first few seeds.
     const int extra = (r.x1 - r.x0) * (r.y1 - r.y0) / (128 * 128);
-    for (const Candidate& c : cands) {
+    for (size_t i = 0;; ++i) {
         if (static_cast<int>(out.size()) >= maxEdges || attempts >= maxEdges + extra) break;
+        if (i == cands.size()) {
+            if (cands.size() < cap || !out.empty()) break;
+            cap *= 4;
+            cands = findCandidates(luma, r, options, kernels, cap, grid);
+            if (i == cands.size()) break;
+        }
+        const Candidate& c = cands[i];
         // Skip seeds on an edge already measured (or already rejected).
         const double px = c.x + 0.5, py = c.y + 0.5;
         const bool covered = std::any_of(used.begin(), used.end(), [&](const Patch& p) {

@@ -97,6 +97,30 @@ TEST_CASE("blur grows with defocus on a textured scene and regions without edges
     CHECK_FALSE(measureBlur(synth::toLuma8(flat).view(), Rect{100, 100, 10, 10}).sigmaPx);
 }
 
+TEST_CASE("thin lines stronger than the region's edge do not use up its attempts", "[blur]") {
+    // Eight dark lines 3 px wide (wires, traces, text strokes), each with twice the gradient of
+    // the one step edge at x = 165, blurred by a 3 px disc. A line's ESF has no two plateaus, so
+    // a seed on it gives no edge; the lines' seeds are the strongest, and were they measured
+    // first they would use up every attempt of the region and leave the edge unmeasured.
+    constexpr double kEdgeX = 165.0;
+    synth::SharpCanvas canvas = synth::makeCanvas(192, 192, 4, 120.0f);
+    synth::paint(canvas, [&](double x, double) {
+        for (int i = 0; i < 8; ++i)
+            if (std::abs(x - (12.0 + 18.0 * i)) < 1.5) return 20.0f;
+        return x > kEdgeX ? 170.0f : 120.0f;
+    });
+    const auto img =
+        synth::toLuma8(synth::renderSharp(canvas, {synth::Psf::disc(3.0), 4, 0.5, 11}).pixels);
+    const Rect all{0, 0, img.width(), img.height()};
+    const std::vector<EdgeMeasurement> edges = measureEdges(img.view(), all);
+    REQUIRE_FALSE(edges.empty());
+    for (const EdgeMeasurement& e : edges)
+        CHECK(e.cx == Approx(kEdgeX).margin(2.0));
+    const BlurEstimate b = measureBlur(img.view(), all);
+    REQUIRE(b.discDiameterPx.has_value());
+    CHECK(*b.discDiameterPx == Approx(3.0).epsilon(0.05));
+}
+
 TEST_CASE("a slanted chequerboard reads its blur in every region", "[blur]") {
     // The focus target of many users (and of the VM tier's loopback): 48 px cells turned by 5°.
     // Near a corner an edge's plateaus hold the perpendicular edge; such cluttered edges read
