@@ -145,11 +145,16 @@ struct Candidate {
     size_t gridIndex;  // in CandidateGrid
 };
 
-// The candidate Sobel grid of the last findCandidates call on this thread (its scratch).
+// A region's candidate Sobel grid (the scratch of the last candidateGrid call on this thread):
+// gradients and |g|² per point, row by row from (x0, y0) at step px; the region's peak |g|² and
+// the least |g|² a candidate needs.
 struct CandidateGrid {
     const int16_t* gx = nullptr;
     const int16_t* gy = nullptr;
-    int perRow = 0, rows = 0, step = 1;
+    const int32_t* m = nullptr;
+    size_t size = 0;
+    int perRow = 0, rows = 0, step = 1, x0 = 0, y0 = 0;
+    int32_t peak = 0, least = 0;
 };
 
 // An oriented rectangle on the image: centre c, unit normal n (dark → bright), tangent
@@ -182,26 +187,25 @@ Kernels chooseKernels(const BlurOptions& o) {
             detail::patchRowsGeneric,      detail::esfBinsGeneric};
 }
 
-// Edge candidates: a Sobel gradient (grey levels per pixel) on a sparse grid of the region,
-// strongest first, at most @p cap of them.
-std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const BlurOptions& o,
-                                      const Kernels& k, size_t cap, CandidateGrid& grid) {
+// The candidate grid of region @p roi: a Sobel gradient (grey levels per pixel) on a sparse grid,
+// in one pass that stores the grid's gradients and magnitudes (the kernel computes only the
+// grid's points) and the region's peak; the threshold relative to it then sets the least |g|².
+// Scratch is reused across regions.
+CandidateGrid candidateGrid(const Luma8& img, const Bounds& roi, const BlurOptions& o,
+                            const Kernels& k) {
+    CandidateGrid grid;
     const int step = std::max(1, o.candidateStep);
     const int y0 = std::max(roi.y0, 1), y1 = std::min(roi.y1, img.height - 1);
     const int x0 = std::max(roi.x0, 1), x1 = std::min(roi.x1, img.width - 1);
-    if (x0 >= x1 || y0 >= y1) return {};
-    // One pass stores the grid's gradients and magnitudes (the kernel computes only the grid's
-    // points) and the region's peak; the threshold relative to it then picks the candidates.
-    // Scratch is reused across regions.
+    if (x0 >= x1 || y0 >= y1) return grid;
     const int n = x1 - x0;
     const int perRow = (n + step - 1) / step;
-    const size_t gridSize = static_cast<size_t>(perRow) * ((y1 - y0 + step - 1) / step);
+    const int rows = (y1 - y0 + step - 1) / step;
+    const size_t gridSize = static_cast<size_t>(perRow) * rows;
     thread_local std::vector<int16_t> gridX, gridY;
     thread_local std::vector<int32_t> gridM;
-    thread_local std::vector<uint64_t> keys;
     if (gridX.size() < gridSize)
-        gridX.resize(gridSize), gridY.resize(gridSize), gridM.resize(gridSize),
-            keys.resize(gridSize);
+        gridX.resize(gridSize), gridY.resize(gridSize), gridM.resize(gridSize);
     int peak2 = 0;
     size_t g = 0;
     for (int y = y0; y < y1; y += step, g += perRow)
@@ -216,43 +220,51 @@ std::vector<Candidate> findCandidates(const Luma8& img, const Bounds& roi, const
     const auto minMag2 = static_cast<int64_t>(std::ceil(static_cast<double>(thr * 64.0f)));
     // (No point is above 2³¹: a larger threshold passes none either way.)
     const auto minM = static_cast<int32_t>(std::min<int64_t>(minMag2, INT32_MAX));
-    // The m strongest passing points, strongest first. A point is a 64-bit key, |g|² above its
-    // complemented grid index: the larger key is the stronger point, equal gradients in scan
-    // order. Counting the points above a level (8 at a time) finds, by bisection over 256 levels
-    // up to the peak, the highest level with at least m points above it; only those points (a
-    // few dozen of thousands) are then listed and ordered.
+    return {gridX.data(), gridY.data(), gridM.data(), gridSize, perRow, rows,
+            step,         x0,           y0,           peak2,    minM};
+}
+
+// The @p cap strongest passing points of @p grid, strongest first. A point is a 64-bit key, |g|²
+// above its complemented grid index: the larger key is the stronger point, equal gradients in
+// scan order, so a longer list starts with a shorter one. Counting the points above a level (8 at
+// a time) finds, by bisection over 256 levels up to the peak, the highest level with at least cap
+// points above it; only those points (a few dozen of thousands) are then listed and ordered.
+std::vector<Candidate> strongestCandidates(const CandidateGrid& grid, const Kernels& k,
+                                           size_t cap) {
+    if (grid.size == 0) return {};
+    thread_local std::vector<uint64_t> keys;
+    if (keys.size() < grid.size) keys.resize(grid.size);
     int shift = 0;
-    while ((peak2 >> shift) >= 256)
+    while ((grid.peak >> shift) >= 256)
         ++shift;
-    const size_t count = k.countAtLeast(gridM.data(), gridSize, minM);
+    const size_t count = k.countAtLeast(grid.m, grid.size, grid.least);
     const size_t m = std::min(cap, count);
-    int32_t lowest = minM;
+    int32_t lowest = grid.least;
     if (count > m) {
         int lo = 0, hi = 255;
         while (lo < hi) {
             const int mid = (lo + hi + 1) / 2;
-            const int32_t level = std::max(minM, mid << shift);
-            if (k.countAtLeast(gridM.data(), gridSize, level) >= m)
+            const int32_t level = std::max(grid.least, mid << shift);
+            if (k.countAtLeast(grid.m, grid.size, level) >= m)
                 lo = mid;
             else
                 hi = mid - 1;
         }
-        lowest = std::max(minM, lo << shift);
+        lowest = std::max(grid.least, lo << shift);
     }
-    const size_t listed = k.listAtLeast(gridM.data(), gridSize, lowest, keys.data());
+    const size_t listed = k.listAtLeast(grid.m, grid.size, lowest, keys.data());
     std::nth_element(keys.begin(), keys.begin() + m, keys.begin() + listed, std::greater<>());
     std::sort(keys.begin(), keys.begin() + m, std::greater<>());
     std::vector<Candidate> out(m);
     for (size_t i = 0; i < m; ++i) {
         const size_t q = detail::candidateIndex(keys[i]);
-        out[i] = {x0 + static_cast<int>(q % perRow) * step,
-                  y0 + static_cast<int>(q / perRow) * step,
-                  gridX[q] / 8.0f,
-                  gridY[q] / 8.0f,
-                  static_cast<float>(gridM[q]) * (1.0f / 64.0f),
+        out[i] = {grid.x0 + static_cast<int>(q % grid.perRow) * grid.step,
+                  grid.y0 + static_cast<int>(q / grid.perRow) * grid.step,
+                  grid.gx[q] / 8.0f,
+                  grid.gy[q] / 8.0f,
+                  static_cast<float>(grid.m[q]) * (1.0f / 64.0f),
                   q};
     }
-    grid = {gridX.data(), gridY.data(), perRow, static_cast<int>(gridSize / perRow), step};
     return out;
 }
 
@@ -754,8 +766,8 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
     // lists the next, weaker ones, four times as many each time. Equal gradients keep their scan
     // order, so a longer list starts with the shorter one.
     size_t cap = 64;
-    CandidateGrid grid;
-    std::vector<Candidate> cands = findCandidates(luma, r, options, kernels, cap, grid);
+    const CandidateGrid grid = candidateGrid(luma, r, options, kernels);
+    std::vector<Candidate> cands = strongestCandidates(grid, kernels, cap);
     // Segment lengths, halved from the longest down to 6 px, share one probe: its slices along
     // the edge nest, the central 4·2^j of them covering the j-th shortest length.
     double lengths[kMaxLengths];
@@ -776,7 +788,7 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
         if (i == cands.size()) {
             if (cands.size() < cap || !out.empty()) break;
             cap *= 4;
-            cands = findCandidates(luma, r, options, kernels, cap, grid);
+            cands = strongestCandidates(grid, kernels, cap);
             if (i == cands.size()) break;
         }
         const Candidate& c = cands[i];
