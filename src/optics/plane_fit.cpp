@@ -80,19 +80,13 @@ double residual(const std::array<double, 3>& q, const Point& p, double floor) {
 // the floor says only that the blur there is small, and when more than half the regions read so
 // the plain median would be zero for the flat plane p = 0, whatever the rest show.
 double lmedsCost(const std::array<double, 3>& q, const std::vector<Point>& pts, double floor,
-                 bool censoring, std::vector<double>& scratch) {
-    if (!censoring) {
-        scratch.clear();
-        for (const auto& p : pts)
-            scratch.push_back(std::abs(residual(q, p, floor)));
-        return median(scratch);
-    }
+                 std::vector<double>& scratch) {
     double cost = 0.0;
     for (const bool censored : {false, true}) {
         scratch.clear();
         for (const auto& p : pts)
             if (p.censored == censored) scratch.push_back(std::abs(residual(q, p, floor)));
-        cost += median(scratch);
+        if (!scratch.empty()) cost += median(scratch);
     }
     return cost;
 }
@@ -216,7 +210,7 @@ std::optional<BlurPlane> fitBlurPlane(std::span<const BlurSample> samples, int w
                                             (signs & 2) ? -t[2]->b : t[2]->b};
             const auto q = solve3(m, rhs);
             if (!q) break;  // collinear triple: no sign pattern helps
-            const double cost = lmedsCost(*q, pts, floor, censoring, scratch);
+            const double cost = lmedsCost(*q, pts, floor, scratch);
             if (cost < bestCost) {
                 bestCost = cost;
                 best = q;
