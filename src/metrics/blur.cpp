@@ -62,6 +62,18 @@ size_t countAtLeastGeneric(const int32_t* m, size_t n, int32_t v) {
     return count;
 }
 
+void levelsGeneric(const int32_t* m, size_t n, int shift, uint8_t* levels) {
+    for (size_t i = 0; i < n; ++i)
+        levels[i] = static_cast<uint8_t>(m[i] >> shift);
+}
+
+size_t countLevelsAtLeastGeneric(const uint8_t* levels, size_t n, uint8_t v) {
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i)
+        count += levels[i] >= v;
+    return count;
+}
+
 size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys) {
     size_t listed = 0;
     for (size_t i = 0; i < n; ++i)
@@ -173,18 +185,23 @@ struct Kernels {
     decltype(&detail::geometryReduceGeneric) geometryReduce;
     decltype(&detail::countAtLeastGeneric) countAtLeast;
     decltype(&detail::listAtLeastGeneric) listAtLeast;
+    decltype(&detail::levelsGeneric) levels;
+    decltype(&detail::countLevelsAtLeastGeneric) countLevelsAtLeast;
     decltype(&detail::patchRowsGeneric) patchRows;
     decltype(&detail::esfBinsGeneric) esfBins;
 };
 
 Kernels chooseKernels(const BlurOptions& o) {
     if (o.simd && detail::haveAvx2())
-        return {detail::sobelGridRowAvx2,   detail::geometryRowsAvx2, detail::esfRowsAvx2,
-                detail::geometryReduceAvx2, detail::countAtLeastAvx2, detail::listAtLeastAvx2,
-                detail::patchRowsAvx2,      detail::esfBinsAvx2};
-    return {detail::sobelGridRowGeneric,   detail::geometryRowsGeneric, detail::esfRowsGeneric,
-            detail::geometryReduceGeneric, detail::countAtLeastGeneric, detail::listAtLeastGeneric,
-            detail::patchRowsGeneric,      detail::esfBinsGeneric};
+        return {detail::sobelGridRowAvx2,   detail::geometryRowsAvx2,       detail::esfRowsAvx2,
+                detail::geometryReduceAvx2, detail::countAtLeastAvx2,       detail::listAtLeastAvx2,
+                detail::levelsAvx2,         detail::countLevelsAtLeastAvx2, detail::patchRowsAvx2,
+                detail::esfBinsAvx2};
+    return {detail::sobelGridRowGeneric, detail::geometryRowsGeneric,
+            detail::esfRowsGeneric,      detail::geometryReduceGeneric,
+            detail::countAtLeastGeneric, detail::listAtLeastGeneric,
+            detail::levelsGeneric,       detail::countLevelsAtLeastGeneric,
+            detail::patchRowsGeneric,    detail::esfBinsGeneric};
 }
 
 // The candidate grid of region @p roi: a Sobel gradient (grey levels per pixel) on a sparse grid,
@@ -241,11 +258,16 @@ std::vector<Candidate> strongestCandidates(const CandidateGrid& grid, const Kern
     const size_t m = std::min(cap, count);
     int32_t lowest = grid.least;
     if (count > m) {
+        // A level mid·2^shift above the least |g|² counts the points whose |g|² >> shift is at
+        // least mid: a byte a point. At or below it, the level is the least, and count ≥ m.
+        thread_local std::vector<uint8_t> levels;
+        if (levels.size() < grid.size) levels.resize(grid.size);
+        k.levels(grid.m, grid.size, shift, levels.data());
         int lo = 0, hi = 255;
         while (lo < hi) {
             const int mid = (lo + hi + 1) / 2;
-            const int32_t level = std::max(grid.least, mid << shift);
-            if (k.countAtLeast(grid.m, grid.size, level) >= m)
+            if ((mid << shift) <= grid.least ||
+                k.countLevelsAtLeast(levels.data(), grid.size, static_cast<uint8_t>(mid)) >= m)
                 lo = mid;
             else
                 hi = mid - 1;

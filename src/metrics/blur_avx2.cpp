@@ -238,6 +238,37 @@ size_t countAtLeastAvx2(const int32_t* m, size_t n, int32_t v) {
     return count + countAtLeastGeneric(m + i, n - i, v);
 }
 
+void levelsAvx2(const int32_t* m, size_t n, int shift, uint8_t* levels) {
+    const __m128i count = _mm_cvtsi32_si128(shift);
+    // The packs interleave 32-bit groups of the four vectors within 128-bit halves; the
+    // permutation puts the 32 bytes back in order.
+    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    size_t i = 0;
+    for (; i + 32 <= n; i += 32) {
+        const auto at = [&](size_t j) {
+            return _mm256_srl_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(m + i + j)),
+                                    count);
+        };
+        const __m256i ab = _mm256_packus_epi32(at(0), at(8));
+        const __m256i cd = _mm256_packus_epi32(at(16), at(24));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(levels + i),
+                            _mm256_permutevar8x32_epi32(_mm256_packus_epi16(ab, cd), order));
+    }
+    levelsGeneric(m + i, n - i, shift, levels + i);
+}
+
+size_t countLevelsAtLeastAvx2(const uint8_t* levels, size_t n, uint8_t v) {
+    const __m256i vv = _mm256_set1_epi8(static_cast<char>(v));
+    size_t count = 0, i = 0;
+    for (; i + 32 <= n; i += 32) {
+        const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(levels + i));
+        // x ≥ v (unsigned) exactly when max(x, v) = x.
+        count += static_cast<size_t>(__builtin_popcount(static_cast<uint32_t>(
+            _mm256_movemask_epi8(_mm256_cmpeq_epi8(_mm256_max_epu8(x, vv), x)))));
+    }
+    return count + countLevelsAtLeastGeneric(levels + i, n - i, v);
+}
+
 size_t listAtLeastAvx2(const int32_t* m, size_t n, int32_t v, uint64_t* keys) {
     const __m256i below = _mm256_set1_epi32(v - 1);
     size_t listed = 0, i = 0;

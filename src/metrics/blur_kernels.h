@@ -34,6 +34,15 @@ inline size_t candidateIndex(uint64_t key) {
 size_t countAtLeastGeneric(const int32_t* m, size_t n, int32_t v);
 /// countAtLeastGeneric with AVX2 (check haveAvx2() first).
 size_t countAtLeastAvx2(const int32_t* m, size_t n, int32_t v);
+/// Writes m[i] >> @p shift to @p levels for the @p n values @p m (0 ≤ m[i] < 256 << shift), so
+/// that counting the points at or above a multiple of 2^shift reads a byte a point.
+void levelsGeneric(const int32_t* m, size_t n, int shift, uint8_t* levels);
+/// levelsGeneric with AVX2 (check haveAvx2() first).
+void levelsAvx2(const int32_t* m, size_t n, int shift, uint8_t* levels);
+/// Number of the @p n bytes @p levels[i] that are at least @p v.
+size_t countLevelsAtLeastGeneric(const uint8_t* levels, size_t n, uint8_t v);
+/// countLevelsAtLeastGeneric with AVX2 (check haveAvx2() first).
+size_t countLevelsAtLeastAvx2(const uint8_t* levels, size_t n, uint8_t v);
 /// Writes the candidateKey of every i with m[i] ≥ @p v (v ≥ 0) to @p keys, in order of i, and
 /// returns how many it wrote.
 size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys);

@@ -294,6 +294,40 @@ TEST_CASE("the candidate counting and listing kernels agree with a plain count",
         }
 }
 
+TEST_CASE("the candidate level kernels agree with a plain shift and count", "[blur][simd]") {
+    if (!detail::haveAvx2()) {
+        WARN("no AVX2 on this CPU; skipped");
+        return;
+    }
+    // Squared gradients below 256 << shift, lengths with and without a 32-point tail.
+    for (int shift : {0, 5, 13}) {
+        std::vector<int32_t> m(203);
+        uint64_t state = 11 + shift;
+        for (int32_t& v : m) {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            v = static_cast<int32_t>((state >> 33) % (256u << shift));
+        }
+        m[0] = (256 << shift) - 1;  // the largest level, 255
+        m[1] = 0;
+        for (size_t n : {size_t{0}, size_t{31}, size_t{32}, size_t{64}, size_t{203}}) {
+            std::vector<uint8_t> l0(n + 1, 0xee), l1(n + 1, 0xee);
+            detail::levelsGeneric(m.data(), n, shift, l0.data());
+            detail::levelsAvx2(m.data(), n, shift, l1.data());
+            for (size_t i = 0; i < n; ++i)
+                CHECK(l0[i] == m[i] >> shift);
+            CHECK(l1 == l0);  // the same bytes, and none written past n
+            for (int v : {0, 1, 7, 128, 200, 255}) {
+                size_t plain = 0;
+                for (size_t i = 0; i < n; ++i)
+                    plain += (m[i] >> shift) >= v;
+                const auto level = static_cast<uint8_t>(v);
+                CHECK(detail::countLevelsAtLeastGeneric(l0.data(), n, level) == plain);
+                CHECK(detail::countLevelsAtLeastAvx2(l0.data(), n, level) == plain);
+            }
+        }
+    }
+}
+
 TEST_CASE("the AVX2 patch row walk gives the generic kernel's spans", "[blur][simd]") {
     if (!detail::haveAvx2()) {
         WARN("no AVX2 on this CPU; skipped");
