@@ -81,6 +81,16 @@ size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys)
     return listed;
 }
 
+void oneSidedSumsGeneric(const int16_t* gx, const int16_t* gy, ptrdiff_t stride, int width,
+                         int rows, int32_t nx, int32_t ny, int64_t* along, int64_t* magnitude) {
+    for (int y = 0; y < rows; ++y)
+        for (int x = 0; x < width; ++x) {
+            const int64_t d = int64_t{gx[y * stride + x]} * nx + int64_t{gy[y * stride + x]} * ny;
+            *along += d;
+            *magnitude += d < 0 ? -d : d;
+        }
+}
+
 int patchRowsGeneric(const PatchRows& s, GeometrySpan* out) {
     GeometrySpan* const first = out;
     for (int y = s.y0; y <= s.y1; ++y) {
@@ -187,21 +197,25 @@ struct Kernels {
     decltype(&detail::listAtLeastGeneric) listAtLeast;
     decltype(&detail::levelsGeneric) levels;
     decltype(&detail::countLevelsAtLeastGeneric) countLevelsAtLeast;
+    decltype(&detail::oneSidedSumsGeneric) oneSidedSums;
     decltype(&detail::patchRowsGeneric) patchRows;
     decltype(&detail::esfBinsGeneric) esfBins;
 };
 
 Kernels chooseKernels(const BlurOptions& o) {
     if (o.simd && detail::haveAvx2())
-        return {detail::sobelGridRowAvx2,   detail::geometryRowsAvx2,       detail::esfRowsAvx2,
-                detail::geometryReduceAvx2, detail::countAtLeastAvx2,       detail::listAtLeastAvx2,
-                detail::levelsAvx2,         detail::countLevelsAtLeastAvx2, detail::patchRowsAvx2,
+        return {detail::sobelGridRowAvx2, detail::geometryRowsAvx2,
+                detail::esfRowsAvx2,      detail::geometryReduceAvx2,
+                detail::countAtLeastAvx2, detail::listAtLeastAvx2,
+                detail::levelsAvx2,       detail::countLevelsAtLeastAvx2,
+                detail::oneSidedSumsAvx2, detail::patchRowsAvx2,
                 detail::esfBinsAvx2};
     return {detail::sobelGridRowGeneric, detail::geometryRowsGeneric,
             detail::esfRowsGeneric,      detail::geometryReduceGeneric,
             detail::countAtLeastGeneric, detail::listAtLeastGeneric,
             detail::levelsGeneric,       detail::countLevelsAtLeastGeneric,
-            detail::patchRowsGeneric,    detail::esfBinsGeneric};
+            detail::oneSidedSumsGeneric, detail::patchRowsGeneric,
+            detail::esfBinsGeneric};
 }
 
 // The candidate grid of region @p roi: a Sobel gradient (grey levels per pixel) on a sparse grid,
@@ -221,8 +235,9 @@ CandidateGrid candidateGrid(const Luma8& img, const Bounds& roi, const BlurOptio
     const size_t gridSize = static_cast<size_t>(perRow) * rows;
     thread_local std::vector<int16_t> gridX, gridY;
     thread_local std::vector<int32_t> gridM;
-    if (gridX.size() < gridSize)
-        gridX.resize(gridSize), gridY.resize(gridSize), gridM.resize(gridSize);
+    // The gradients are padded by 16 points: oneSidedSumsAvx2 reads 16 from a row's start.
+    if (gridX.size() < gridSize + 16)
+        gridX.resize(gridSize + 16), gridY.resize(gridSize + 16), gridM.resize(gridSize);
     int peak2 = 0;
     size_t g = 0;
     for (int y = y0; y < y1; y += step, g += perRow)
@@ -298,20 +313,16 @@ constexpr double kOneSidedRadiusPx = 8.0, kMinOneSided = 0.5;
 // kOneSidedRadiusPx, n the seed's gradient. A lone edge gives about 1. A bar, a thin line or
 // crowded texture, whose two sides lie within a few pixels, gives gradients of both signs; its
 // ESF has no two plateaus and the fit would lose its contrast after all the pixel work.
-double oneSided(const CandidateGrid& g, const Candidate& c) {
+double oneSided(const CandidateGrid& g, const Candidate& c, const Kernels& k) {
     const int r = std::max(1, static_cast<int>(std::lround(kOneSidedRadiusPx / g.step)));
     const int qx = static_cast<int>(c.gridIndex % g.perRow);
     const int qy = static_cast<int>(c.gridIndex / g.perRow);
-    const int64_t nx = g.gx[c.gridIndex], ny = g.gy[c.gridIndex];
+    const int32_t nx = g.gx[c.gridIndex], ny = g.gy[c.gridIndex];
+    const int x0 = std::max(0, qx - r), y0 = std::max(0, qy - r);
+    const size_t first = static_cast<size_t>(y0) * g.perRow + x0;
     int64_t along = 0, magnitude = 0;
-    for (int y = std::max(0, qy - r); y <= std::min(g.rows - 1, qy + r); ++y) {
-        const size_t row = static_cast<size_t>(y) * g.perRow;
-        for (int x = std::max(0, qx - r); x <= std::min(g.perRow - 1, qx + r); ++x) {
-            const int64_t d = g.gx[row + x] * nx + g.gy[row + x] * ny;
-            along += d;
-            magnitude += d < 0 ? -d : d;
-        }
-    }
+    k.oneSidedSums(g.gx + first, g.gy + first, g.perRow, std::min(g.perRow - 1, qx + r) - x0 + 1,
+                   std::min(g.rows - 1, qy + r) - y0 + 1, nx, ny, &along, &magnitude);
     return magnitude > 0 ? static_cast<double>(along) / static_cast<double>(magnitude) : 0.0;
 }
 
@@ -822,7 +833,7 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
         if (covered) continue;
         // Seeds on bars, lines and clutter are passed over (the scan goes on to weaker ones); the
         // test reads 81 grid points where a measurement walks a thousand pixels twice.
-        if (oneSided(grid, c) < kMinOneSided) continue;
+        if (oneSided(grid, c, kernels) < kMinOneSided) continue;
         ++attempts;
         // One probe along the longest segment in a narrow slab about the seed's gradient: the
         // slices' derivative centroids give every length's line and straightness at once.

@@ -135,6 +135,37 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
     }
 }
 
+void oneSidedSumsAvx2(const int16_t* gx, const int16_t* gy, ptrdiff_t stride, int width, int rows,
+                      int32_t nx, int32_t ny, int64_t* along, int64_t* magnitude) {
+    if (width > 16)
+        return oneSidedSumsGeneric(gx, gy, stride, width, rows, nx, ny, along, magnitude);
+    // (gx, gy) pairs times (nx, ny) by madd: 32-bit d, |d| ≤ 2·1020², and sums of at most
+    // 16 × 16 of them below 2³¹ per lane. The unpacks take points 0–3 and 8–11 (lo), 4–7 and
+    // 12–15 (hi); points past the width are masked.
+    const __m256i n = _mm256_set1_epi32(
+        static_cast<int32_t>((static_cast<uint32_t>(ny) << 16) | static_cast<uint16_t>(nx)));
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 8, 9, 10, 11);
+    const __m256i w = _mm256_set1_epi32(width);
+    const __m256i inLo = _mm256_cmpgt_epi32(w, lane);
+    const __m256i inHi = _mm256_cmpgt_epi32(w, _mm256_add_epi32(lane, _mm256_set1_epi32(4)));
+    __m256i sum = _mm256_setzero_si256(), abs = _mm256_setzero_si256();
+    for (int y = 0; y < rows; ++y) {
+        const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(gx + y * stride));
+        const __m256i z = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(gy + y * stride));
+        const __m256i lo =
+            _mm256_and_si256(inLo, _mm256_madd_epi16(_mm256_unpacklo_epi16(x, z), n));
+        const __m256i hi =
+            _mm256_and_si256(inHi, _mm256_madd_epi16(_mm256_unpackhi_epi16(x, z), n));
+        sum = _mm256_add_epi32(sum, _mm256_add_epi32(lo, hi));
+        abs = _mm256_add_epi32(abs, _mm256_add_epi32(_mm256_abs_epi32(lo), _mm256_abs_epi32(hi)));
+    }
+    alignas(32) int32_t s[8], a[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(s), sum);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(a), abs);
+    for (int i = 0; i < 8; ++i)
+        *along += s[i], *magnitude += a[i];
+}
+
 int patchRowsAvx2(const PatchRows& s, GeometrySpan* out) {
     // An axis-aligned slab bounds rows, not x: the generic walk handles those patches.
     if (s.s1.open || s.s2.open) return patchRowsGeneric(s, out);

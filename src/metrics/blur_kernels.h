@@ -49,6 +49,15 @@ size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys)
 /// listAtLeastGeneric with AVX2 (check haveAvx2() first).
 size_t listAtLeastAvx2(const int32_t* m, size_t n, int32_t v, uint64_t* keys);
 
+/// Adds, over @p rows rows of @p width grid points from @p gx / @p gy (rows @p stride points
+/// apart), d = gx·nx + gy·ny to @p along and |d| to @p magnitude (|gx|, |gy|, |nx|, |ny| ≤ 1020).
+void oneSidedSumsGeneric(const int16_t* gx, const int16_t* gy, ptrdiff_t stride, int width,
+                         int rows, int32_t nx, int32_t ny, int64_t* along, int64_t* magnitude);
+/// oneSidedSumsGeneric with AVX2 (check haveAvx2() first), a row at a time when width ≤ 16
+/// (others: the generic one); reads 16 points from each row's start, which must be readable.
+void oneSidedSumsAvx2(const int16_t* gx, const int16_t* gy, ptrdiff_t stride, int width, int rows,
+                      int32_t nx, int32_t ny, int64_t* along, int64_t* magnitude);
+
 /// An oriented patch for the edge-geometry fit: the normal (nx, ny), the derivative threshold, the
 /// half-length hl, the number of slices along the edge and their inverse width (slices / 2hl).
 struct GeometryPatch {

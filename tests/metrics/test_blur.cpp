@@ -328,6 +328,46 @@ TEST_CASE("the candidate level kernels agree with a plain shift and count", "[bl
     }
 }
 
+TEST_CASE("the one-sided sums kernels agree with a plain sum", "[blur][simd]") {
+    if (!detail::haveAvx2()) {
+        WARN("no AVX2 on this CPU; skipped");
+        return;
+    }
+    // Sobel gradients up to the largest (±1020), a grid of 20 × 12 points plus the 16 points of
+    // padding the AVX2 kernel may read past a row's start.
+    const int stride = 20, rowsInGrid = 12;
+    std::vector<int16_t> gx(stride * rowsInGrid + 16), gy(gx.size());
+    uint64_t state = 3;
+    for (size_t i = 0; i < gx.size(); ++i) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        gx[i] = static_cast<int16_t>(static_cast<int>((state >> 33) % 2041) - 1020);
+        gy[i] = static_cast<int16_t>(static_cast<int>((state >> 45) % 2041) - 1020);
+    }
+    gx[0] = gy[0] = -1020;  // the extremes: d = 2·1020² at n = (−1020, −1020)
+    for (int width : {1, 8, 9, 16, 17})
+        for (int rows : {1, 9, 12})
+            for (auto [nx, ny] : {std::pair{-1020, -1020}, std::pair{1020, -3}, std::pair{0, 7}}) {
+                int64_t along = 0, magnitude = 0;
+                for (int y = 0; y < rows; ++y)
+                    for (int x = 0; x < width && x < stride; ++x) {
+                        const int64_t d =
+                            int64_t{gx[y * stride + x]} * nx + int64_t{gy[y * stride + x]} * ny;
+                        along += d;
+                        magnitude += std::abs(d);
+                    }
+                const int w = std::min(width, stride);
+                int64_t a0 = 5, m0 = 6, a1 = 5, m1 = 6;  // added to, not overwritten
+                detail::oneSidedSumsGeneric(gx.data(), gy.data(), stride, w, rows, nx, ny, &a0,
+                                            &m0);
+                detail::oneSidedSumsAvx2(gx.data(), gy.data(), stride, w, rows, nx, ny, &a1, &m1);
+                INFO("width " << w << ", rows " << rows << ", n (" << nx << ", " << ny << ")");
+                CHECK(a0 == along + 5);
+                CHECK(m0 == magnitude + 6);
+                CHECK(a1 == a0);
+                CHECK(m1 == m0);
+            }
+}
+
 TEST_CASE("the AVX2 patch row walk gives the generic kernel's spans", "[blur][simd]") {
     if (!detail::haveAvx2()) {
         WARN("no AVX2 on this CPU; skipped");
