@@ -599,11 +599,17 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
     {
         const double half = kMomentSigmas * std::sqrt(std::max(f.varLsf + f.binVar, 0.05));
         const double wl = f.mean - half, wr = f.mean + half;
-        size_t il = 0, ir = bins.size() - 1;
-        while (il + 1 < bins.size() && bins[il + 1].pos <= wl)
-            ++il;
-        while (ir > 0 && bins[ir - 1].pos >= wr)
-            --ir;
+        // The last bin at or left of wl (or the first), the first at or right of wr (or the last).
+        const size_t afterL =
+            static_cast<size_t>(std::partition_point(bins.begin(), bins.end(),
+                                                     [&](const Bin& b) { return b.pos <= wl; }) -
+                                bins.begin());
+        const size_t il = afterL > 0 ? afterL - 1 : 0;
+        const size_t ir = std::min(
+            static_cast<size_t>(std::partition_point(bins.begin(), bins.end(),
+                                                     [&](const Bin& b) { return b.pos < wr; }) -
+                                bins.begin()),
+            bins.size() - 1);
         f.varCore = f.varLsf;
         if (ir > il + 2 && f.contrast >= kCleanCnr * std::max(f.noise, 0.5)) {
             const Moments m = lineSpreadMoments(terms, il, ir, f.lo, f.lo + f.contrast, bins);
@@ -612,9 +618,11 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
     }
     // 10–90 % rise of the sampled ESF, searched outwards from the centroid.
     double x10 = mu, x90 = mu;
-    size_t c = 0;
-    while (c + 1 < bins.size() && bins[c + 1].pos < mu)
-        ++c;
+    // The last bin left of the centroid (or the first).
+    const size_t beforeMu = static_cast<size_t>(
+        std::partition_point(bins.begin(), bins.end(), [&](const Bin& b) { return b.pos < mu; }) -
+        bins.begin());
+    const size_t c = beforeMu > 0 ? beforeMu - 1 : 0;
     auto level = [&](size_t i) { return (bins[i].value - f.lo) / f.contrast; };
     for (size_t i = c; i > 0; --i) {
         const double a = level(i - 1), b = level(i);
