@@ -74,6 +74,16 @@ size_t countLevelsAtLeastGeneric(const uint8_t* levels, size_t n, uint8_t v) {
     return count;
 }
 
+size_t listLevelsAtLeastGeneric(const uint8_t* levels, int shift, const int32_t* m, size_t n,
+                                int32_t v, uint64_t* keys) {
+    // m[i] ≥ v implies levels[i] = m[i] >> shift ≥ v >> shift: the byte test only skips points.
+    const int level = v >> shift;
+    size_t listed = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (levels[i] >= level && m[i] >= v) keys[listed++] = candidateKey(m[i], i);
+    return listed;
+}
+
 size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys) {
     size_t listed = 0;
     for (size_t i = 0; i < n; ++i)
@@ -195,6 +205,7 @@ struct Kernels {
     decltype(&detail::geometryReduceGeneric) geometryReduce;
     decltype(&detail::countAtLeastGeneric) countAtLeast;
     decltype(&detail::listAtLeastGeneric) listAtLeast;
+    decltype(&detail::listLevelsAtLeastGeneric) listLevelsAtLeast;
     decltype(&detail::levelsGeneric) levels;
     decltype(&detail::countLevelsAtLeastGeneric) countLevelsAtLeast;
     decltype(&detail::oneSidedSumsGeneric) oneSidedSums;
@@ -204,17 +215,22 @@ struct Kernels {
 
 Kernels chooseKernels(const BlurOptions& o) {
     if (o.simd && detail::haveAvx2())
-        return {detail::sobelGridRowAvx2, detail::geometryRowsAvx2,
-                detail::esfRowsAvx2,      detail::geometryReduceAvx2,
-                detail::countAtLeastAvx2, detail::listAtLeastAvx2,
-                detail::levelsAvx2,       detail::countLevelsAtLeastAvx2,
-                detail::oneSidedSumsAvx2, detail::patchRowsAvx2,
-                detail::esfBinsAvx2};
-    return {detail::sobelGridRowGeneric, detail::geometryRowsGeneric,
-            detail::esfRowsGeneric,      detail::geometryReduceGeneric,
-            detail::countAtLeastGeneric, detail::listAtLeastGeneric,
-            detail::levelsGeneric,       detail::countLevelsAtLeastGeneric,
-            detail::oneSidedSumsGeneric, detail::patchRowsGeneric,
+        return {
+            detail::sobelGridRowAvx2,      detail::geometryRowsAvx2, detail::esfRowsAvx2,
+            detail::geometryReduceAvx2,    detail::countAtLeastAvx2, detail::listAtLeastAvx2,
+            detail::listLevelsAtLeastAvx2, detail::levelsAvx2,       detail::countLevelsAtLeastAvx2,
+            detail::oneSidedSumsAvx2,      detail::patchRowsAvx2,    detail::esfBinsAvx2};
+    return {detail::sobelGridRowGeneric,
+            detail::geometryRowsGeneric,
+            detail::esfRowsGeneric,
+            detail::geometryReduceGeneric,
+            detail::countAtLeastGeneric,
+            detail::listAtLeastGeneric,
+            detail::listLevelsAtLeastGeneric,
+            detail::levelsGeneric,
+            detail::countLevelsAtLeastGeneric,
+            detail::oneSidedSumsGeneric,
+            detail::patchRowsGeneric,
             detail::esfBinsGeneric};
 }
 
@@ -269,14 +285,14 @@ std::vector<Candidate> strongestCandidates(const CandidateGrid& grid, const Kern
     int shift = 0;
     while ((grid.peak >> shift) >= 256)
         ++shift;
+    thread_local std::vector<uint8_t> levels;
+    if (levels.size() < grid.size) levels.resize(grid.size);
     const size_t count = k.countAtLeast(grid.m, grid.size, grid.least);
     const size_t m = std::min(cap, count);
     int32_t lowest = grid.least;
     if (count > m) {
         // A level mid·2^shift above the least |g|² counts the points whose |g|² >> shift is at
         // least mid: a byte a point. At or below it, the level is the least, and count ≥ m.
-        thread_local std::vector<uint8_t> levels;
-        if (levels.size() < grid.size) levels.resize(grid.size);
         k.levels(grid.m, grid.size, shift, levels.data());
         int lo = 0, hi = 255;
         while (lo < hi) {
@@ -289,7 +305,9 @@ std::vector<Candidate> strongestCandidates(const CandidateGrid& grid, const Kern
         }
         lowest = std::max(grid.least, lo << shift);
     }
-    const size_t listed = k.listAtLeast(grid.m, grid.size, lowest, keys.data());
+    const size_t listed = count > m ? k.listLevelsAtLeast(levels.data(), shift, grid.m, grid.size,
+                                                          lowest, keys.data())
+                                    : k.listAtLeast(grid.m, grid.size, lowest, keys.data());
     std::nth_element(keys.begin(), keys.begin() + m, keys.begin() + listed, std::greater<>());
     std::sort(keys.begin(), keys.begin() + m, std::greater<>());
     std::vector<Candidate> out(m);

@@ -300,6 +300,27 @@ size_t countLevelsAtLeastAvx2(const uint8_t* levels, size_t n, uint8_t v) {
     return count + countLevelsAtLeastGeneric(levels + i, n - i, v);
 }
 
+size_t listLevelsAtLeastAvx2(const uint8_t* levels, int shift, const int32_t* m, size_t n,
+                             int32_t v, uint64_t* keys) {
+    const int level = v >> shift;
+    const __m256i vl = _mm256_set1_epi8(static_cast<char>(level));
+    size_t listed = 0, i = 0;
+    for (; i + 32 <= n; i += 32) {
+        const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(levels + i));
+        // Few points pass the byte test; only theirs are read in m (x ≥ level: max(x, level) = x).
+        auto bits = static_cast<uint32_t>(
+            _mm256_movemask_epi8(_mm256_cmpeq_epi8(_mm256_max_epu8(x, vl), x)));
+        while (bits) {
+            const size_t j = i + static_cast<size_t>(__builtin_ctz(bits));
+            if (m[j] >= v) keys[listed++] = candidateKey(m[j], j);
+            bits &= bits - 1;
+        }
+    }
+    for (; i < n; ++i)
+        if (levels[i] >= level && m[i] >= v) keys[listed++] = candidateKey(m[i], i);
+    return listed;
+}
+
 size_t listAtLeastAvx2(const int32_t* m, size_t n, int32_t v, uint64_t* keys) {
     const __m256i below = _mm256_set1_epi32(v - 1);
     size_t listed = 0, i = 0;

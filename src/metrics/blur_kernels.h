@@ -43,6 +43,13 @@ void levelsAvx2(const int32_t* m, size_t n, int shift, uint8_t* levels);
 size_t countLevelsAtLeastGeneric(const uint8_t* levels, size_t n, uint8_t v);
 /// countLevelsAtLeastGeneric with AVX2 (check haveAvx2() first).
 size_t countLevelsAtLeastAvx2(const uint8_t* levels, size_t n, uint8_t v);
+/// listAtLeastGeneric for v ≥ 0 with the levels of m (levelsGeneric with @p shift): only the
+/// points whose level is at least v >> shift are read in @p m; the same keys.
+size_t listLevelsAtLeastGeneric(const uint8_t* levels, int shift, const int32_t* m, size_t n,
+                                int32_t v, uint64_t* keys);
+/// listLevelsAtLeastGeneric with AVX2 (check haveAvx2() first), 32 levels a compare.
+size_t listLevelsAtLeastAvx2(const uint8_t* levels, int shift, const int32_t* m, size_t n,
+                             int32_t v, uint64_t* keys);
 /// Writes the candidateKey of every i with m[i] ≥ @p v (v ≥ 0) to @p keys, in order of i, and
 /// returns how many it wrote.
 size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys);

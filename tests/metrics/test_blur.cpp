@@ -324,6 +324,19 @@ TEST_CASE("the candidate level kernels agree with a plain shift and count", "[bl
                 CHECK(detail::countLevelsAtLeastGeneric(l0.data(), n, level) == plain);
                 CHECK(detail::countLevelsAtLeastAvx2(l0.data(), n, level) == plain);
             }
+            // Listing through the levels gives listAtLeast's keys, also for a v between levels.
+            for (int32_t v : {0, 1, m[0], m[0] + 1, (7 << shift) + 3, 200 << shift}) {
+                std::vector<uint64_t> k0(n + 1), k1(n + 1), k2(n + 1);
+                const size_t plain = detail::listAtLeastGeneric(m.data(), n, v, k0.data());
+                const size_t g =
+                    detail::listLevelsAtLeastGeneric(l0.data(), shift, m.data(), n, v, k1.data());
+                const size_t a =
+                    detail::listLevelsAtLeastAvx2(l0.data(), shift, m.data(), n, v, k2.data());
+                CHECK(g == plain);
+                CHECK(a == plain);
+                CHECK(std::equal(k0.begin(), k0.begin() + plain, k1.begin()));
+                CHECK(std::equal(k0.begin(), k0.begin() + plain, k2.begin()));
+            }
         }
     }
 }
