@@ -532,6 +532,19 @@ Moments lineSpreadMoments(const PairTerms& t, size_t il, size_t ir, double lo, d
     return {mean, m2 / m0 - mean * mean, corr / m0};
 }
 
+// Index of the first of @p bins (in ascending position) whose position exceeds @p x, and of the
+// first at or right of it: bisection, since the fit asks for a window's ends many times an ESF.
+size_t firstAfter(const std::vector<Bin>& bins, double x) {
+    return static_cast<size_t>(
+        std::partition_point(bins.begin(), bins.end(), [x](const Bin& b) { return b.pos <= x; }) -
+        bins.begin());
+}
+size_t firstAtOrAfter(const std::vector<Bin>& bins, double x) {
+    return static_cast<size_t>(
+        std::partition_point(bins.begin(), bins.end(), [x](const Bin& b) { return b.pos < x; }) -
+        bins.begin());
+}
+
 // Second moment of the line spread from the binned ESF. The edge's extent is found in a window
 // grown or shrunk to 4 σ + 1 px about the centroid (holds 99.99 % of a Gaussian and all of a
 // disc), with the plateau levels just outside it; that window's variance (varLsf) rates and
@@ -558,14 +571,9 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
         // The bins are in ascending position: the window's ends by bisection, then only the
         // plateau bins are visited (left before right, as a full scan would add them).
         double sl = 0, nl = 0, sr = 0, nr = 0, pv = 0, npv = 0;
-        const auto byPos = [](const Bin& b, double v) { return b.pos < v; };
         // First bin right of wl (pos > wl), first bin at or right of wr.
-        const size_t afterL =
-            static_cast<size_t>(std::partition_point(bins.begin(), bins.end(),
-                                                     [&](const Bin& b) { return b.pos <= wl; }) -
-                                bins.begin());
-        const size_t atR = static_cast<size_t>(
-            std::lower_bound(bins.begin(), bins.end(), wr, byPos) - bins.begin());
+        const size_t afterL = firstAfter(bins, wl);
+        const size_t atR = firstAtOrAfter(bins, wr);
         size_t il = afterL > 0 ? afterL - 1 : 0;
         size_t ir = std::min(atR, bins.size() - 1);
         {
@@ -618,16 +626,9 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
         const double half = kMomentSigmas * std::sqrt(std::max(f.varLsf + f.binVar, 0.05));
         const double wl = f.mean - half, wr = f.mean + half;
         // The last bin at or left of wl (or the first), the first at or right of wr (or the last).
-        const size_t afterL =
-            static_cast<size_t>(std::partition_point(bins.begin(), bins.end(),
-                                                     [&](const Bin& b) { return b.pos <= wl; }) -
-                                bins.begin());
+        const size_t afterL = firstAfter(bins, wl);
         const size_t il = afterL > 0 ? afterL - 1 : 0;
-        const size_t ir = std::min(
-            static_cast<size_t>(std::partition_point(bins.begin(), bins.end(),
-                                                     [&](const Bin& b) { return b.pos < wr; }) -
-                                bins.begin()),
-            bins.size() - 1);
+        const size_t ir = std::min(firstAtOrAfter(bins, wr), bins.size() - 1);
         f.varCore = f.varLsf;
         if (ir > il + 2 && f.contrast >= kCleanCnr * std::max(f.noise, 0.5)) {
             const Moments m = lineSpreadMoments(terms, il, ir, f.lo, f.lo + f.contrast, bins);
@@ -637,9 +638,7 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
     // 10–90 % rise of the sampled ESF, searched outwards from the centroid.
     double x10 = mu, x90 = mu;
     // The last bin left of the centroid (or the first).
-    const size_t beforeMu = static_cast<size_t>(
-        std::partition_point(bins.begin(), bins.end(), [&](const Bin& b) { return b.pos < mu; }) -
-        bins.begin());
+    const size_t beforeMu = firstAtOrAfter(bins, mu);
     const size_t c = beforeMu > 0 ? beforeMu - 1 : 0;
     auto level = [&](size_t i) { return (bins[i].value - f.lo) / f.contrast; };
     for (size_t i = c; i > 0; --i) {
@@ -662,10 +661,7 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
     // much, on the ESF averaged over 1 px so that noise does not count.
     // The bins within the window, each with those less than 1 px after it (a running sum).
     double overshoot = 0.0;
-    size_t i = static_cast<size_t>(
-        std::partition_point(bins.begin(), bins.end(),
-                             [&](const Bin& b) { return b.pos < mu - radius; }) -
-        bins.begin());
+    size_t i = firstAtOrAfter(bins, mu - radius);
     size_t j = i;
     double sum = 0.0;
     int n = 0;
