@@ -38,8 +38,8 @@ void benchBlur(const BenchOptions& options, const RowSink& sink) {
         return medianMs(
             [&] {
                 count = 0;
-                for (const Rect& r : regions)
-                    count += measureBlur(view, r, o).sigmaPx.has_value();
+                for (const BlurEstimate& b : measureBlurRegions(view, regions, o))
+                    count += b.sigmaPx.has_value();
             },
             options.secondsPerCase);
     };

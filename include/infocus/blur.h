@@ -6,6 +6,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "infocus/image.h"
@@ -46,6 +47,12 @@ struct BlurEstimate {
 /// Blur of the region @p roi of @p luma (clipped to the image). An empty region, or one without
 /// a straight edge of enough contrast, gives empty fields and confidence 0.
 BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& options = {});
+
+/// measureBlur of each of @p rois, in order, with the same results. While one region is measured,
+/// the pixels of the next are fetched into the cache, so a frame larger than the cache (1080p)
+/// does not make every region wait for memory: use it for a grid of regions.
+std::vector<BlurEstimate> measureBlurRegions(const Luma8& luma, std::span<const Rect> rois,
+                                             const BlurOptions& options = {});
 
 /// The measurement at one edge segment, for diagnostics and tests.
 struct EdgeMeasurement {

@@ -104,8 +104,10 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
     if (o.measureBlur) {
         // Blur costs far more than sharpness: spread the regions over the cores.
         const auto work = [&](size_t begin, size_t end) {
+            const std::vector<BlurEstimate> blur =
+                measureBlurRegions(img, std::span(rects).subspan(begin, end - begin));
             for (size_t i = begin; i < end; ++i) {
-                const BlurEstimate b = measureBlur(img, rects[i]);
+                const BlurEstimate& b = blur[i - begin];
                 RegionResult& r = a.regions[i];
                 r.edgeWidthPx = b.edgeWidthPx;
                 r.blurSigmaPx = b.sigmaPx;

@@ -788,10 +788,64 @@ Bounds clipRect(const Rect& r, int w, int h) {
             std::clamp(r.y + r.h, 0, h)};
 }
 
+// Asks the cache for the pixels the candidate pass of the next region will read, a few rows at
+// a time while the current region is measured. A 1080p frame (2 MB) does not stay in a core's
+// L2 cache (1 MB here) from one pass over the regions to the next, and the Sobel pass reads each
+// region row by row, a stride apart, with nothing else to do while a row comes from memory: on
+// the bench frame it took 1.8 M cycles a frame when its rows were cold and 0.6 M when warm.
+// Fetched during the seeds' pixel work, which reads only what the Sobel pass already brought in,
+// the rows arrive in time. Empty (no region) does nothing.
+class RowPrefetcher {
+public:
+    RowPrefetcher() = default;
+    RowPrefetcher(const Luma8& img, const Rect& roi) : img_(&img) {
+        const Bounds b = clipRect(roi, img.width, img.height);
+        // The rows and columns the candidate Sobel reads (its vector loads reach 32 px on).
+        y_ = std::max(b.y0 - 1, 0), y1_ = std::min(b.y1 + 1, img.height);
+        xa_ = std::max(b.x0 - 1, 0), xb_ = std::min(b.x1 + 32, img.width - 1);
+        if (b.x0 >= b.x1) y_ = y1_;
+    }
+    // Asks for the next @p rows rows.
+    void fetch(int rows) {
+        constexpr int kLine = 64;
+        for (const int end = std::min(y_ + rows, y1_); y_ < end; ++y_) {
+            const uint8_t* row = img_->row(y_);
+            for (int x = xa_; x < xb_ + kLine; x += kLine)
+                __builtin_prefetch(row + std::min(x, xb_));
+        }
+    }
+    // Asks for every row not asked for yet.
+    void finish() { fetch(y1_ - y_); }
+
+private:
+    const Luma8* img_ = nullptr;
+    int y_ = 0, y1_ = 0, xa_ = 0, xb_ = 0;
+};
+
+// Rows of the next region asked for per seed tried: about a region's worth over the 16 or so
+// seeds a region of the bench's grid looks at (most are passed over cheaply).
+constexpr int kPrefetchRowsPerSeed = 8;
+
+// measureEdges, asking the cache for the pixels of @p next meanwhile.
+std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Rect& roi,
+                                                     const BlurOptions& given, RowPrefetcher& next);
+
+// The region's blur from its edges (measureBlur).
+BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const BlurOptions& options);
+
 }  // namespace
 
 std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
-                                          const BlurOptions& given) {
+                                          const BlurOptions& options) {
+    RowPrefetcher none;
+    return measureEdgesPrefetching(luma, roi, options, none);
+}
+
+namespace {
+
+std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Rect& roi,
+                                                     const BlurOptions& given,
+                                                     RowPrefetcher& next) {
     // The ESF kernels' integer sums hold kEsfMaxBinPixels pixels a bin: bins of at most 1 px
     // along segments of at most 2 × 500 px (a bin of an axis-aligned edge takes one column of
     // the patch, one pixel a row).
@@ -847,6 +901,7 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
             if (i == cands.size()) break;
         }
         const Candidate& c = cands[i];
+        next.fetch(kPrefetchRowsPerSeed);
         // Skip seeds on an edge already measured (or already rejected).
         const double px = c.x + 0.5, py = c.y + 0.5;
         const bool covered = std::any_of(used.begin(), used.end(), [&](const Patch& p) {
@@ -909,9 +964,8 @@ std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
     return out;
 }
 
-BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& options) {
+BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const BlurOptions& options) {
     BlurEstimate est;
-    const std::vector<EdgeMeasurement> edges = measureEdges(luma, roi, options);
     std::vector<const EdgeMeasurement*> good;
     for (const EdgeMeasurement& e : edges)
         if (e.quality > 0.05) good.push_back(&e);
@@ -961,6 +1015,26 @@ BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& 
     est.confidence =
         std::clamp((sw / agreeing) * (1.0 - std::exp(-agreeing / 1.5)) * agreement, 0.0, 1.0);
     return est;
+}
+
+}  // namespace
+
+BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& options) {
+    return blurFromEdges(measureEdges(luma, roi, options), options);
+}
+
+std::vector<BlurEstimate> measureBlurRegions(const Luma8& luma, std::span<const Rect> rois,
+                                             const BlurOptions& options) {
+    std::vector<BlurEstimate> out;
+    out.reserve(rois.size());
+    for (size_t i = 0; i < rois.size(); ++i) {
+        RowPrefetcher next =
+            i + 1 < rois.size() ? RowPrefetcher(luma, rois[i + 1]) : RowPrefetcher();
+        out.push_back(
+            blurFromEdges(measureEdgesPrefetching(luma, rois[i], options, next), options));
+        next.finish();
+    }
+    return out;
 }
 
 }  // namespace infocus

@@ -469,6 +469,43 @@ TEST_CASE("the AVX2 and the generic engine measure the same edges", "[blur][simd
     CHECK(edges >= 12);  // the frame has edges in most regions: the comparison is not empty
 }
 
+TEST_CASE("measureBlurRegions gives each region's measureBlur", "[blur]") {
+    // A grid over a textured frame, plus regions partly or wholly outside it and an empty one:
+    // fetching the next region ahead must not change any result, and the list keeps its order.
+    synth::SharpCanvas canvas = synth::makeCanvas(480, 270, 2);
+    synth::paintDeadLeaves(canvas, 78, 4.0, 60.0);
+    const auto img =
+        synth::toLuma8(synth::renderSharp(canvas, {synth::Psf::disc(5.0), 2, 1.0, 6}).pixels);
+    std::vector<Rect> rois;
+    for (int y = 0; y < 270; y += 90)
+        for (int x = 0; x < 480; x += 120)
+            rois.push_back(Rect{x, y, 120, 90});
+    rois.push_back(Rect{400, 200, 200, 200});  // past the right and bottom borders
+    rois.push_back(Rect{-50, -50, 100, 100});  // before the left and top borders
+    rois.push_back(Rect{600, 300, 50, 50});    // wholly outside
+    rois.push_back(Rect{10, 10, 0, 0});        // empty
+    const std::vector<BlurEstimate> all = measureBlurRegions(img.view(), rois);
+    REQUIRE(all.size() == rois.size());
+    int measured = 0;
+    for (size_t i = 0; i < rois.size(); ++i) {
+        const BlurEstimate one = measureBlur(img.view(), rois[i]);
+        INFO("region " << i);
+        REQUIRE(all[i].sigmaPx.has_value() == one.sigmaPx.has_value());
+        CHECK(all[i].confidence == one.confidence);  // the same arithmetic: equal to the bit
+        CHECK(all[i].edgeCount == one.edgeCount);
+        if (one.sigmaPx) {
+            CHECK(*all[i].sigmaPx == *one.sigmaPx);
+            CHECK(*all[i].discDiameterPx == *one.discDiameterPx);
+            CHECK(*all[i].edgeWidthPx == *one.edgeWidthPx);
+            ++measured;
+        }
+    }
+    CHECK(measured >= 8);  // most of the grid has edges: the comparison is not empty
+    CHECK_FALSE(all[rois.size() - 2].sigmaPx.has_value());
+    CHECK_FALSE(all[rois.size() - 1].sigmaPx.has_value());
+    CHECK(measureBlurRegions(img.view(), std::vector<Rect>{}).empty());
+}
+
 TEST_CASE("real focus stack: blur is smallest where sharpness peaks", "[blur][data]") {
     namespace fs = std::filesystem;
     const fs::path dir = fs::path(INFOCUS_DATA_DIR) / "focus-stack" / "pcb";
