@@ -810,8 +810,9 @@ public:
         constexpr int kLine = 64;
         for (const int end = std::min(y_ + rows, y1_); y_ < end; ++y_) {
             const uint8_t* row = img_->row(y_);
-            for (int x = xa_; x < xb_ + kLine; x += kLine)
-                __builtin_prefetch(row + std::min(x, xb_));
+            for (const uint8_t* p = row + xa_; p < row + xb_; p += kLine)
+                __builtin_prefetch(p);
+            __builtin_prefetch(row + xb_);
         }
     }
     // Asks for every row not asked for yet.
