@@ -810,8 +810,8 @@ public:
         constexpr int kLine = 64;
         for (const int end = std::min(y_ + rows, y1_); y_ < end; ++y_) {
             const uint8_t* row = img_->row(y_);
-            for (const uint8_t* p = row + xa_; p < row + xb_; p += kLine)
-                __builtin_prefetch(p);
+            for (int x = xa_; x < xb_; x += kLine)
+                __builtin_prefetch(row + x);
             __builtin_prefetch(row + xb_);
         }
     }
