@@ -803,7 +803,7 @@ public:
         // The rows and columns the candidate Sobel reads (its vector loads reach 32 px on).
         y_ = std::max(b.y0 - 1, 0), y1_ = std::min(b.y1 + 1, img.height);
         xa_ = std::max(b.x0 - 1, 0), xb_ = std::min(b.x1 + 32, img.width - 1);
-        if (b.x0 >= b.x1) y_ = y1_;
+        if (b.x0 >= b.x1 || b.y0 >= b.y1) y_ = y1_;  // an empty region: nothing to fetch
     }
     // Asks for the next @p rows rows.
     void fetch(int rows) {
@@ -828,22 +828,6 @@ private:
 constexpr int kPrefetchRowsPerSeed = 8;
 
 // measureEdges, asking the cache for the pixels of @p next meanwhile.
-std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Rect& roi,
-                                                     const BlurOptions& given, RowPrefetcher& next);
-
-// The region's blur from its edges (measureBlur).
-BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const BlurOptions& options);
-
-}  // namespace
-
-std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
-                                          const BlurOptions& options) {
-    RowPrefetcher none;
-    return measureEdgesPrefetching(luma, roi, options, none);
-}
-
-namespace {
-
 std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Rect& roi,
                                                      const BlurOptions& given,
                                                      RowPrefetcher& next) {
@@ -965,6 +949,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     return out;
 }
 
+// The region's blur from its edges (measureBlur).
 BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const BlurOptions& options) {
     BlurEstimate est;
     std::vector<const EdgeMeasurement*> good;
@@ -1019,6 +1004,12 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
 }
 
 }  // namespace
+
+std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
+                                          const BlurOptions& options) {
+    RowPrefetcher none;
+    return measureEdgesPrefetching(luma, roi, options, none);
+}
 
 BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& options) {
     return blurFromEdges(measureEdges(luma, roi, options), options);
