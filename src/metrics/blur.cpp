@@ -130,8 +130,9 @@ int patchRowsGeneric(const PatchRows& s, GeometrySpan* out) {
     return static_cast<int>(out - first);
 }
 
-int esfBinsGeneric(const uint32_t* acc, int from, int n, double binPx, double hw, EsfBin* out) {
-    EsfBin* const first = out;
+int esfBinsGeneric(const uint32_t* acc, int from, int n, double binPx, double hw,
+                   const EsfBins& out) {
+    int k = 0;
     const double unit = binPx / 2048.0;
     for (int i = from; i < n; ++i) {
         const uint32_t* a = acc + 4 * i;
@@ -141,10 +142,30 @@ int esfBinsGeneric(const uint32_t* acc, int from, int n, double binPx, double hw
         const double sv = a[0] & ((1u << kEsfCountShift) - 1u);
         const double v = sv * inv, d = static_cast<int32_t>(a[2]) * unit * inv;
         const double centre = (i + 0.5) * binPx - hw;
-        *out++ = {centre + d, v, std::max(0.0, a[3] * unit * unit * inv - d * d),
-                  std::max(0.0, static_cast<double>(a[1]) * inv - v * v), cnt};
+        out.pos[k] = centre + d;
+        out.value[k] = v;
+        out.withinVar[k] = std::max(0.0, a[3] * unit * unit * inv - d * d);
+        out.pixelVar[k] = std::max(0.0, static_cast<double>(a[1]) * inv - v * v);
+        out.count[k] = cnt;
+        ++k;
     }
-    return static_cast<int>(out - first);
+    return k;
+}
+
+void pairTermsGeneric(const PairInputs& b, int from, int n, double* x, double* c, double* sums) {
+    if (from == 0) sums[0] = sums[1] = sums[2] = sums[3] = 0.0;
+    double s0 = sums[4 * from], s1 = sums[4 * from + 1], s2 = sums[4 * from + 2],
+           s3 = sums[4 * from + 3];
+    for (int i = from; i + 1 < n; ++i) {
+        const double step = b.value[i + 1] - b.value[i];
+        const double mid = 0.5 * (b.pos[i] + b.pos[i + 1]);
+        const double gap = b.pos[i + 1] - b.pos[i];
+        const double spread = gap * gap / 12.0 + 0.5 * (b.withinVar[i] + b.withinVar[i + 1]);
+        x[i] = mid, c[i] = spread;
+        s0 += step, s1 += step * mid, s2 += step * mid * mid, s3 += step * spread;
+        double* s = sums + 4 * (i + 1);
+        s[0] = s0, s[1] = s1, s[2] = s2, s[3] = s3;
+    }
 }
 
 }  // namespace detail
@@ -211,6 +232,7 @@ struct Kernels {
     decltype(&detail::oneSidedSumsGeneric) oneSidedSums;
     decltype(&detail::patchRowsGeneric) patchRows;
     decltype(&detail::esfBinsGeneric) esfBins;
+    decltype(&detail::pairTermsGeneric) pairTerms;
 };
 
 Kernels chooseKernels(const BlurOptions& o) {
@@ -219,7 +241,8 @@ Kernels chooseKernels(const BlurOptions& o) {
             detail::sobelGridRowAvx2,      detail::geometryRowsAvx2, detail::esfRowsAvx2,
             detail::geometryReduceAvx2,    detail::countAtLeastAvx2, detail::listAtLeastAvx2,
             detail::listLevelsAtLeastAvx2, detail::levelsAvx2,       detail::countLevelsAtLeastAvx2,
-            detail::oneSidedSumsAvx2,      detail::patchRowsAvx2,    detail::esfBinsAvx2};
+            detail::oneSidedSumsAvx2,      detail::patchRowsAvx2,    detail::esfBinsAvx2,
+            detail::pairTermsAvx2};
     return {detail::sobelGridRowGeneric,
             detail::geometryRowsGeneric,
             detail::esfRowsGeneric,
@@ -231,7 +254,8 @@ Kernels chooseKernels(const BlurOptions& o) {
             detail::countLevelsAtLeastGeneric,
             detail::oneSidedSumsGeneric,
             detail::patchRowsGeneric,
-            detail::esfBinsGeneric};
+            detail::esfBinsGeneric,
+            detail::pairTermsGeneric};
 }
 
 // The candidate grid of region @p roi: a Sobel gradient (grey levels per pixel) on a sparse grid,
@@ -462,7 +486,17 @@ void moveOnto(Patch& p, const LineFit& f) {
     p.ny = ny / len;
 }
 
-using Bin = detail::EsfBin;
+// An ESF's non-empty bins (see detail::EsfBins), in ascending position; scratch reused.
+struct BinList {
+    std::vector<double> pos, value, withinVar, pixelVar, count;
+    size_t size = 0;
+    // Room for @p n bins and the kernels' slack; the arrays to fill.
+    detail::EsfBins reserve(size_t n) {
+        for (auto* v : {&pos, &value, &withinVar, &pixelVar, &count})
+            if (v->size() < n + detail::kEsfBinSlack) v->resize(n + detail::kEsfBinSlack);
+        return {pos.data(), value.data(), withinVar.data(), pixelVar.data(), count.data()};
+    }
+};
 
 struct EsfFit {
     bool ok = false;
@@ -481,36 +515,24 @@ struct Moments {
 };
 
 // The terms of each pair of neighbouring bins (i, i + 1) that lineSpreadMoments adds up, computed
-// once per ESF: the step l = v[i+1] − v[i] and its products l·x, l·x², l·c as running sums
-// (entry k holds the sum over the pairs before k), so that the fit's every window costs the same
-// whatever its width; and the midpoint x and the bins' own spread c for the window's end pairs,
-// whose step runs from or to a plateau level instead.
+// once per ESF (detail::pairTermsGeneric): the running sums of the step and its products (so that
+// the fit's every window costs the same whatever its width), and the midpoint x and the bins' own
+// spread c for the window's end pairs, whose step runs from or to a plateau level instead.
 struct PairTerms {
-    std::vector<double> sl, slx, slxx, slc, x, c;
-    void set(const std::vector<Bin>& bins) {
-        const size_t n = bins.size() - 1;
-        for (auto* v : {&x, &c})
-            v->resize(n);
-        for (auto* v : {&sl, &slx, &slxx, &slc})
-            v->resize(n + 1);
-        double a = 0, b = 0, d = 0, e = 0;
-        sl[0] = slx[0] = slxx[0] = slc[0] = 0.0;
-        for (size_t i = 0; i < n; ++i) {
-            const double step = bins[i + 1].value - bins[i].value;
-            const double mid = 0.5 * (bins[i].pos + bins[i + 1].pos);
-            const double gap = bins[i + 1].pos - bins[i].pos;
-            const double spread =
-                gap * gap / 12.0 + 0.5 * (bins[i].withinVar + bins[i + 1].withinVar);
-            x[i] = mid, c[i] = spread;
-            a += step, b += step * mid, d += step * mid * mid, e += step * spread;
-            sl[i + 1] = a, slx[i + 1] = b, slxx[i + 1] = d, slc[i + 1] = e;
-        }
+    std::vector<double> x, c, sums;
+    void set(const BinList& bins, const Kernels& k) {
+        const size_t n = bins.size;
+        if (x.size() < n + detail::kEsfBinSlack)
+            x.resize(n + detail::kEsfBinSlack), c.resize(n + detail::kEsfBinSlack);
+        if (sums.size() < 4 * (n + 1)) sums.resize(4 * (n + 1));
+        k.pairTerms({bins.pos.data(), bins.value.data(), bins.withinVar.data()}, 0,
+                    static_cast<int>(n), x.data(), c.data(), sums.data());
     }
 };
 
 // The moments of the line spread (see Moments) from the pair terms @p t of @p bins.
 Moments lineSpreadMoments(const PairTerms& t, size_t il, size_t ir, double lo, double hi,
-                          const std::vector<Bin>& bins) {
+                          const BinList& bins) {
     double m0 = 0, m1 = 0, m2 = 0, corr = 0;
     auto add = [&](size_t i, double l) {
         m0 += l;
@@ -520,38 +542,41 @@ Moments lineSpreadMoments(const PairTerms& t, size_t il, size_t ir, double lo, d
     };
     // The first pair steps up from the low plateau, the last to the high one; the pairs between
     // them from the running sums.
-    add(il, (il + 1 == ir ? hi : bins[il + 1].value) - lo);
+    add(il, (il + 1 == ir ? hi : bins.value[il + 1]) - lo);
     if (ir > il + 2) {
-        m0 += t.sl[ir - 1] - t.sl[il + 1];
-        m1 += t.slx[ir - 1] - t.slx[il + 1];
-        m2 += t.slxx[ir - 1] - t.slxx[il + 1];
-        corr += t.slc[ir - 1] - t.slc[il + 1];
+        const double* a = t.sums.data() + 4 * (il + 1);
+        const double* b = t.sums.data() + 4 * (ir - 1);
+        m0 += b[0] - a[0];
+        m1 += b[1] - a[1];
+        m2 += b[2] - a[2];
+        corr += b[3] - a[3];
     }
-    if (ir > il + 1) add(ir - 1, hi - bins[ir - 1].value);
+    if (ir > il + 1) add(ir - 1, hi - bins.value[ir - 1]);
     const double mean = m1 / m0;
     return {mean, m2 / m0 - mean * mean, corr / m0};
 }
 
-// The number of leading @p bins (in ascending position) for which @p before holds (it holds for a
-// prefix of them), by a bisection whose steps are conditional moves: the fit asks for a window's
-// ends many times an ESF, and the branches of a plain bisection over 50–100 bins mispredict.
+// The number of leading @p bins (in ascending position) for which @p before holds of its position
+// (it holds for a prefix of them), by a bisection whose steps are conditional moves: the fit asks
+// for a window's ends many times an ESF, and the branches of a plain bisection over 50–100 bins
+// mispredict.
 template <class Before>
-size_t countBefore(const std::vector<Bin>& bins, Before before) {
-    if (bins.empty()) return 0;
-    const Bin* base = bins.data();
-    for (size_t len = bins.size(); len > 1;) {
+size_t countBefore(const BinList& bins, Before before) {
+    if (bins.size == 0) return 0;
+    const double* base = bins.pos.data();
+    for (size_t len = bins.size; len > 1;) {
         const size_t half = len / 2;
         base = before(base[half]) ? base + half : base;
         len -= half;
     }
-    return static_cast<size_t>(base - bins.data()) + (before(*base) ? 1 : 0);
+    return static_cast<size_t>(base - bins.pos.data()) + (before(*base) ? 1 : 0);
 }
 // Index of the first of @p bins whose position exceeds @p x, and of the first at or right of it.
-size_t firstAfter(const std::vector<Bin>& bins, double x) {
-    return countBefore(bins, [x](const Bin& b) { return b.pos <= x; });
+size_t firstAfter(const BinList& bins, double x) {
+    return countBefore(bins, [x](double pos) { return pos <= x; });
 }
-size_t firstAtOrAfter(const std::vector<Bin>& bins, double x) {
-    return countBefore(bins, [x](const Bin& b) { return b.pos < x; });
+size_t firstAtOrAfter(const BinList& bins, double x) {
+    return countBefore(bins, [x](double pos) { return pos < x; });
 }
 
 // Second moment of the line spread from the binned ESF. The edge's extent is found in a window
@@ -566,13 +591,18 @@ size_t firstAtOrAfter(const std::vector<Bin>& bins, double x) {
 // its variance (σ 0.25 % low), and nothing of a disc from d = 2 px up (its projection ends at
 // 2 σ, the pixel's at 0.71 px). The bins' own spread is removed here, the pixel's 1/12 by the
 // caller.
-EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast) {
+EsfFit fitEsf(const BinList& bins, const Kernels& k, double halfWidth, double minContrast) {
     EsfFit f;
-    if (bins.size() < 8) return f;
-    const double first = bins.front().pos, last = bins.back().pos;
+    const size_t size = bins.size;
+    if (size < 8) return f;
+    const double* pos = bins.pos.data();
+    const double* value = bins.value.data();
+    const double* count = bins.count.data();
+    const double* pixelVar = bins.pixelVar.data();
+    const double first = pos[0], last = pos[size - 1];
     double mu = 0.5 * (first + last), radius = halfWidth;
     thread_local PairTerms terms;
-    terms.set(bins);
+    terms.set(bins, k);
     constexpr double kPlateauPx = 2.0;
     for (int iter = 0; iter < 6; ++iter) {
         const double wl = mu - radius, wr = mu + radius;
@@ -584,26 +614,24 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
         const size_t afterL = firstAfter(bins, wl);
         const size_t atR = firstAtOrAfter(bins, wr);
         size_t il = afterL > 0 ? afterL - 1 : 0;
-        size_t ir = std::min(atR, bins.size() - 1);
+        size_t ir = std::min(atR, size - 1);
         {
             size_t i = afterL;
-            while (i > 0 && bins[i - 1].pos > wl - kPlateauPx)
+            while (i > 0 && pos[i - 1] > wl - kPlateauPx)
                 --i;
             for (; i < afterL; ++i) {
-                const Bin& b = bins[i];
-                sl += b.value * b.count, nl += b.count;
-                pv += b.pixelVar * b.count, npv += b.count;
+                sl += value[i] * count[i], nl += count[i];
+                pv += pixelVar[i] * count[i], npv += count[i];
             }
         }
-        for (size_t i = atR; i < bins.size() && bins[i].pos < wr + kPlateauPx; ++i) {
-            const Bin& b = bins[i];
-            sr += b.value * b.count, nr += b.count;
-            pv += b.pixelVar * b.count, npv += b.count;
+        for (size_t i = atR; i < size && pos[i] < wr + kPlateauPx; ++i) {
+            sr += value[i] * count[i], nr += count[i];
+            pv += pixelVar[i] * count[i], npv += count[i];
         }
         if (wl < first) il = 0;
-        if (wr > last) ir = bins.size() - 1;
-        const double lo = nl > 0 ? sl / nl : bins[il].value;
-        const double hi = nr > 0 ? sr / nr : bins[ir].value;
+        if (wr > last) ir = size - 1;
+        const double lo = nl > 0 ? sl / nl : value[il];
+        const double hi = nr > 0 ? sr / nr : value[ir];
         const double contrast = hi - lo;
         if (contrast < minContrast || ir <= il + 2) return f;
         const Moments m = lineSpreadMoments(terms, il, ir, lo, hi, bins);
@@ -637,7 +665,7 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
         // The last bin at or left of wl (or the first), the first at or right of wr (or the last).
         const size_t afterL = firstAfter(bins, wl);
         const size_t il = afterL > 0 ? afterL - 1 : 0;
-        const size_t ir = std::min(firstAtOrAfter(bins, wr), bins.size() - 1);
+        const size_t ir = std::min(firstAtOrAfter(bins, wr), size - 1);
         f.varCore = f.varLsf;
         if (ir > il + 2 && f.contrast >= kCleanCnr * std::max(f.noise, 0.5)) {
             const Moments m = lineSpreadMoments(terms, il, ir, f.lo, f.lo + f.contrast, bins);
@@ -649,18 +677,18 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
     // The last bin left of the centroid (or the first).
     const size_t beforeMu = firstAtOrAfter(bins, mu);
     const size_t c = beforeMu > 0 ? beforeMu - 1 : 0;
-    auto level = [&](size_t i) { return (bins[i].value - f.lo) / f.contrast; };
+    auto level = [&](size_t i) { return (value[i] - f.lo) / f.contrast; };
     for (size_t i = c; i > 0; --i) {
         const double a = level(i - 1), b = level(i);
         if (a <= 0.1 && b > 0.1) {
-            x10 = bins[i - 1].pos + (0.1 - a) / (b - a) * (bins[i].pos - bins[i - 1].pos);
+            x10 = pos[i - 1] + (0.1 - a) / (b - a) * (pos[i] - pos[i - 1]);
             break;
         }
     }
-    for (size_t i = c; i + 1 < bins.size(); ++i) {
+    for (size_t i = c; i + 1 < size; ++i) {
         const double a = level(i), b = level(i + 1);
         if (a < 0.9 && b >= 0.9) {
-            x90 = bins[i].pos + (0.9 - a) / (b - a) * (bins[i + 1].pos - bins[i].pos);
+            x90 = pos[i] + (0.9 - a) / (b - a) * (pos[i + 1] - pos[i]);
             break;
         }
     }
@@ -673,13 +701,13 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
     size_t i = firstAtOrAfter(bins, mu - radius);
     size_t j = i;
     double sum = 0.0;
-    int n = 0;
-    for (; i < bins.size() && bins[i].pos <= mu + radius; ++i) {
-        for (; j < bins.size() && bins[j].pos < bins[i].pos + 1.0; ++j)
-            sum += bins[j].value * bins[j].count, n += bins[j].count;
+    double n = 0.0;  // a whole number of pixels
+    for (; i < size && pos[i] <= mu + radius; ++i) {
+        for (; j < size && pos[j] < pos[i] + 1.0; ++j)
+            sum += value[j] * count[j], n += count[j];
         const double v = sum / n;
         overshoot = std::max({overshoot, v - (f.lo + f.contrast), f.lo - v});
-        sum -= bins[i].value * bins[i].count, n -= bins[i].count;
+        sum -= value[i] * count[i], n -= count[i];
     }
     f.overshoot = overshoot / f.contrast;
     f.ok = true;
@@ -688,7 +716,7 @@ EsfFit fitEsf(const std::vector<Bin>& bins, double halfWidth, double minContrast
 
 // Bins the pixels of @p p by their distance across the edge (the slanted-edge ESF) into @p bins.
 void sampleEsf(const Luma8& img, const Bounds& b, const Kernels& k, const Patch& p, double binPx,
-               std::vector<Bin>& bins) {
+               BinList& bins) {
     const int n = static_cast<int>(std::ceil(2.0 * p.hw / binPx));
     const auto bp = static_cast<float>(binPx);
     const detail::EsfPatch e{
@@ -700,8 +728,7 @@ void sampleEsf(const Luma8& img, const Bounds& b, const Kernels& k, const Patch&
     k.esfRows(spans.data(), static_cast<int>(spans.size()), img.width, e, acc.data());
     // Written in place, one division per bin: this runs for every bin of every ESF, a hundred
     // thousand times a frame.
-    bins.resize(n);
-    bins.resize(k.esfBins(acc.data(), 0, n, binPx, p.hw, bins.data()));
+    bins.size = static_cast<size_t>(k.esfBins(acc.data(), 0, n, binPx, p.hw, bins.reserve(n)));
 }
 
 // Half-width (px) of the slab across the edge in which the geometry is first fitted.
@@ -761,7 +788,7 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
     bool refit = cut;
     thread_local std::vector<Slice> sl;
     sl.resize(slices);
-    thread_local std::vector<Bin> bins;
+    thread_local BinList bins;
     for (int pass = 0; pass < 6; ++pass) {
         if (refit) {
             geometrySlices(img, b, k, patch, threshold, slices, sl.data());
@@ -770,7 +797,7 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
             moveOnto(patch, line);
         }
         sampleEsf(img, b, k, patch, o.binPx, bins);
-        const EsfFit f = fitEsf(bins, patch.hw, o.minContrast);
+        const EsfFit f = fitEsf(bins, k, patch.hw, o.minContrast);
         // A clipped edge (a plateau at black or white) has lost the part of its spread beyond the
         // clip: its moment says nothing about the blur.
         if (f.ok && (f.lo <= kClipLow || f.lo + f.contrast >= kClipHigh)) return std::nullopt;

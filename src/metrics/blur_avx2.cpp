@@ -21,6 +21,25 @@ inline __m256 widen8f(const uint8_t* p) {
         _mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
 }
 
+// For each set of non-empty lanes (4 bits), the 32-bit lanes of a permutation that moves those
+// doubles, in order, to the front of a vector.
+struct PackOrder {
+    alignas(32) int32_t lanes[16][8];
+};
+constexpr PackOrder makePackOrder() {
+    PackOrder p{};
+    for (int m = 0; m < 16; ++m) {
+        int j = 0;
+        for (int lane = 0; lane < 4; ++lane)
+            if (m >> lane & 1)
+                p.lanes[m][2 * j] = 2 * lane, p.lanes[m][2 * j + 1] = 2 * lane + 1, ++j;
+        for (; j < 4; ++j)
+            p.lanes[m][2 * j] = 0, p.lanes[m][2 * j + 1] = 1;
+    }
+    return p;
+}
+constexpr PackOrder kPackOrder = makePackOrder();
+
 }  // namespace
 
 int32_t sobelGridRowAvx2(const uint8_t* a, const uint8_t* m, const uint8_t* c, int x0, int count,
@@ -213,16 +232,13 @@ int patchRowsAvx2(const PatchRows& s, GeometrySpan* out) {
     return static_cast<int>(out - first);
 }
 
-int esfBinsAvx2(const uint32_t* acc, int from, int n, double binPx, double hw, EsfBin* out) {
-    EsfBin* const first = out;
+int esfBinsAvx2(const uint32_t* acc, int from, int n, double binPx, double hw, const EsfBins& out) {
     const double unit = binPx / 2048.0;
     const __m256d vunit = _mm256_set1_pd(unit), vbin = _mm256_set1_pd(binPx);
     const __m256d vhw = _mm256_set1_pd(hw), one = _mm256_set1_pd(1.0), half = _mm256_set1_pd(0.5);
     const __m256d zero = _mm256_setzero_pd();
     const __m128i mask = _mm_set1_epi32((1 << kEsfCountShift) - 1);
-    alignas(32) double pos[4], value[4], within[4], pixel[4];
-    alignas(16) int32_t count[4];
-    int i = from;
+    int i = from, k = 0;
     for (; i + 4 <= n; i += 4) {
         // Four bins' four words, transposed into one vector per word.
         const __m128i b0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(acc + 4 * i));
@@ -234,28 +250,75 @@ int esfBinsAvx2(const uint32_t* acc, int from, int n, double binPx, double hw, E
         const __m128i w0 = _mm_unpacklo_epi64(t0, t2), w1 = _mm_unpackhi_epi64(t0, t2);
         const __m128i w2 = _mm_unpacklo_epi64(t1, t3), w3 = _mm_unpackhi_epi64(t1, t3);
         const __m128i cnt = _mm_srli_epi32(w0, kEsfCountShift);
-        if (_mm_testz_si128(cnt, cnt)) continue;
-        // esfBinsGeneric's operations, in the same order.
-        const __m256d inv = _mm256_div_pd(one, _mm256_cvtepi32_pd(cnt));
+        const int full =
+            _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(cnt, _mm_setzero_si128())));
+        if (full == 0) continue;
+        // esfBinsGeneric's operations, in the same order (an empty lane divides by zero and is
+        // dropped by the packing).
+        const __m256d count = _mm256_cvtepi32_pd(cnt);
+        const __m256d inv = _mm256_div_pd(one, count);
         const __m256d v = _mm256_mul_pd(_mm256_cvtepi32_pd(_mm_and_si128(w0, mask)), inv);
         const __m256d d = _mm256_mul_pd(_mm256_mul_pd(_mm256_cvtepi32_pd(w2), vunit), inv);
-        const __m256d k = _mm256_setr_pd(i, i + 1.0, i + 2.0, i + 3.0);
-        const __m256d centre = _mm256_sub_pd(_mm256_mul_pd(_mm256_add_pd(k, half), vbin), vhw);
+        const __m256d ki = _mm256_setr_pd(i, i + 1.0, i + 2.0, i + 3.0);
+        const __m256d centre = _mm256_sub_pd(_mm256_mul_pd(_mm256_add_pd(ki, half), vbin), vhw);
         const __m256d wv = _mm256_sub_pd(
             _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(_mm256_cvtepi32_pd(w3), vunit), vunit), inv),
             _mm256_mul_pd(d, d));
         const __m256d pv =
             _mm256_sub_pd(_mm256_mul_pd(_mm256_cvtepi32_pd(w1), inv), _mm256_mul_pd(v, v));
+        // The non-empty lanes moved to the front of each vector and stored at the next free
+        // entry; the lanes behind them land in the arrays' slack or are overwritten next.
+        const __m256i order =
+            _mm256_load_si256(reinterpret_cast<const __m256i*>(kPackOrder.lanes[full]));
+        auto put = [&](double* a, __m256d x) {
+            _mm256_storeu_pd(
+                a + k, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(x), order)));
+        };
+        put(out.pos, _mm256_add_pd(centre, d));
+        put(out.value, v);
         // max(x, 0) keeps std::max(0.0, x)'s result for −0 and NaN: +0.
-        _mm256_store_pd(pos, _mm256_add_pd(centre, d));
-        _mm256_store_pd(value, v);
-        _mm256_store_pd(within, _mm256_max_pd(wv, zero));
-        _mm256_store_pd(pixel, _mm256_max_pd(pv, zero));
-        _mm_store_si128(reinterpret_cast<__m128i*>(count), cnt);
-        for (int j = 0; j < 4; ++j)
-            if (count[j] > 0) *out++ = {pos[j], value[j], within[j], pixel[j], count[j]};
+        put(out.withinVar, _mm256_max_pd(wv, zero));
+        put(out.pixelVar, _mm256_max_pd(pv, zero));
+        put(out.count, count);
+        k += __builtin_popcount(static_cast<unsigned>(full));
     }
-    return static_cast<int>(out - first) + esfBinsGeneric(acc, i, n, binPx, hw, out);
+    return k + esfBinsGeneric(acc, i, n, binPx, hw, out.from(k));
+}
+
+void pairTermsAvx2(const PairInputs& b, int from, int n, double* x, double* c, double* sums) {
+    if (from == 0) _mm256_storeu_pd(sums, _mm256_setzero_pd());
+    const __m256d half = _mm256_set1_pd(0.5), twelve = _mm256_set1_pd(12.0);
+    __m256d run = _mm256_loadu_pd(sums + 4 * from);
+    int i = from;
+    // Pairs i..i + 3 read bins up to i + 4.
+    for (; i + 5 <= n; i += 4) {
+        const __m256d p0 = _mm256_loadu_pd(b.pos + i), p1 = _mm256_loadu_pd(b.pos + i + 1);
+        const __m256d step =
+            _mm256_sub_pd(_mm256_loadu_pd(b.value + i + 1), _mm256_loadu_pd(b.value + i));
+        const __m256d mid = _mm256_mul_pd(half, _mm256_add_pd(p0, p1));
+        const __m256d gap = _mm256_sub_pd(p1, p0);
+        const __m256d spread =
+            _mm256_add_pd(_mm256_div_pd(_mm256_mul_pd(gap, gap), twelve),
+                          _mm256_mul_pd(half, _mm256_add_pd(_mm256_loadu_pd(b.withinVar + i),
+                                                            _mm256_loadu_pd(b.withinVar + i + 1))));
+        _mm256_storeu_pd(x + i, mid);
+        _mm256_storeu_pd(c + i, spread);
+        const __m256d sx = _mm256_mul_pd(step, mid);
+        const __m256d sxx = _mm256_mul_pd(sx, mid);
+        const __m256d sc = _mm256_mul_pd(step, spread);
+        // One vector of the four terms per pair (a 4 × 4 transpose), added to the running sums
+        // in pair order: each sum takes the generic version's additions.
+        const __m256d lo01 = _mm256_unpacklo_pd(step, sx), hi01 = _mm256_unpackhi_pd(step, sx);
+        const __m256d lo23 = _mm256_unpacklo_pd(sxx, sc), hi23 = _mm256_unpackhi_pd(sxx, sc);
+        const __m256d pair[4] = {
+            _mm256_permute2f128_pd(lo01, lo23, 0x20), _mm256_permute2f128_pd(hi01, hi23, 0x20),
+            _mm256_permute2f128_pd(lo01, lo23, 0x31), _mm256_permute2f128_pd(hi01, hi23, 0x31)};
+        for (int j = 0; j < 4; ++j) {
+            run = _mm256_add_pd(run, pair[j]);
+            _mm256_storeu_pd(sums + 4 * (i + j + 1), run);
+        }
+    }
+    pairTermsGeneric(b, i, n, x, c, sums);
 }
 
 size_t countAtLeastAvx2(const int32_t* m, size_t n, int32_t v) {

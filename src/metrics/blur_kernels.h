@@ -197,22 +197,48 @@ inline void esfPixels(const uint8_t* r, int x0, int from, int x1, float u0, cons
     }
 }
 
-/// One ESF bin: mean position across the edge (px from the patch centre), mean grey level, the
-/// variance of its pixels' positions and of their grey levels, and its pixel count.
-struct EsfBin {
-    double pos, value, withinVar, pixelVar;
-    int count;
+/// An ESF's non-empty bins, one array per field: bin i's mean position across the edge (px from
+/// the patch centre), mean grey level, the variance of its pixels' positions and of their grey
+/// levels, and its pixel count (a whole number, in double: the fit weighs by it). Arrays of one
+/// field let the AVX2 kernels load four neighbouring bins at once.
+struct EsfBins {
+    double *pos, *value, *withinVar, *pixelVar, *count;
+    /// The same arrays from bin @p k on.
+    EsfBins from(int k) const {
+        return {pos + k, value + k, withinVar + k, pixelVar + k, count + k};
+    }
 };
+/// Entries past the last bin that the AVX2 kernels may write into: each array of an EsfBins
+/// needs this many beyond the bins it holds.
+constexpr int kEsfBinSlack = 4;
 
 /// Turns bins @p from..n−1 of the integer sums @p acc (as the ESF kernels leave them; bins of
-/// @p binPx across a patch of half-width @p hw) into EsfBins, skipping empty bins; returns how
+/// @p binPx across a patch of half-width @p hw) into @p out, skipping empty bins; returns how
 /// many:
 /// with inv = 1/count and unit = binPx/2048, d = Σδ·unit·inv, pos = ((k + ½)·binPx − hw) + d,
 /// value = Σv·inv, withinVar = max(0, Σδ²·unit·unit·inv − d²), pixelVar = max(0, Σv²·inv −
 /// value²), in that order of double operations.
-int esfBinsGeneric(const uint32_t* acc, int from, int n, double binPx, double hw, EsfBin* out);
-/// esfBinsGeneric with AVX2 (check haveAvx2() first), four bins at a time: the same bins.
-int esfBinsAvx2(const uint32_t* acc, int from, int n, double binPx, double hw, EsfBin* out);
+int esfBinsGeneric(const uint32_t* acc, int from, int n, double binPx, double hw,
+                   const EsfBins& out);
+/// esfBinsGeneric with AVX2 (check haveAvx2() first), four bins at a time, the non-empty ones
+/// packed by a permutation: the same bins.
+int esfBinsAvx2(const uint32_t* acc, int from, int n, double binPx, double hw, const EsfBins& out);
+
+/// The fields of an ESF's bins (as in EsfBins) that the pair terms read.
+struct PairInputs {
+    const double *pos, *value, *withinVar;
+};
+
+/// The terms of the pairs of neighbouring bins (i, i + 1) of the @p n bins @p b that the line
+/// spread's moments add up: the midpoint x[i] = ½(pos[i] + pos[i+1]), the bins' own spread
+/// c[i] = gap²/12 + ½(withinVar[i] + withinVar[i+1]) (gap = pos[i+1] − pos[i]), and, with
+/// step = value[i+1] − value[i], the running sums over the pairs before k as four doubles
+/// sums[4k..4k+3] = Σ step, Σ step·x, Σ (step·x)·x, Σ step·c, added pair by pair from pair
+/// @p from on (sums[4·from..] hold the sums before it; from = 0 starts them at 0). In that order
+/// of double operations.
+void pairTermsGeneric(const PairInputs& b, int from, int n, double* x, double* c, double* sums);
+/// pairTermsGeneric with AVX2 (check haveAvx2() first), four pairs at a time: the same terms.
+void pairTermsAvx2(const PairInputs& b, int from, int n, double* x, double* c, double* sums);
 
 /// Bins the pixels of the @p count rows @p spans (of an image @p width pixels wide) into @p acc,
 /// four unsigned words per bin plus one spare bin (index bins) for the pixels outside:

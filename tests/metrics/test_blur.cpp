@@ -163,6 +163,7 @@ TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][si
     const Luma8 v = img.view();
     std::vector<int16_t> gx0(w), gy0(w), gx1(w), gy1(w);
     std::vector<float> acc0, acc1;
+    int mostBins = 0;  // the most non-empty ESF bins of a case
     for (int y = 1; y < h - 1; ++y)
         for (int x0 : {1, 2, 7, 40})
             for (int n : {1, 5, 15, 16, 17, 33, w - 1 - x0}) {
@@ -234,29 +235,55 @@ TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][si
                         for (int k = 0; k <= e.bins; ++k)
                             counted += e1[4 * k] >> detail::kEsfCountShift;
                         CHECK(counted == static_cast<uint32_t>(2 * n));
-                        // The bins in double: the same values, empty bins skipped.
-                        std::vector<detail::EsfBin> b0(e.bins), b1(e.bins);
-                        const int n0 =
-                            detail::esfBinsGeneric(e1.data(), 0, e.bins, bp, 7.0, b0.data());
-                        const int n1 =
-                            detail::esfBinsAvx2(e1.data(), 0, e.bins, bp, 7.0, b1.data());
+                        // The bins in double: the same values, empty bins skipped; then the
+                        // terms of their neighbouring pairs.
+                        const size_t room = e.bins + detail::kEsfBinSlack;
+                        std::vector<double> f0(5 * room), f1(5 * room);
+                        auto arrays = [room](std::vector<double>& f) {
+                            return detail::EsfBins{f.data(), f.data() + room, f.data() + 2 * room,
+                                                   f.data() + 3 * room, f.data() + 4 * room};
+                        };
+                        const detail::EsfBins b0 = arrays(f0), b1 = arrays(f1);
+                        const int n0 = detail::esfBinsGeneric(e1.data(), 0, e.bins, bp, 7.0, b0);
+                        const int n1 = detail::esfBinsAvx2(e1.data(), 0, e.bins, bp, 7.0, b1);
                         REQUIRE(n0 == n1);
+                        mostBins = std::max(mostBins, n0);
                         int pixels = 0;
                         for (int i = 0; i < n0; ++i) {
-                            CHECK(b0[i].pos == b1[i].pos);
-                            CHECK(b0[i].value == b1[i].value);
-                            CHECK(b0[i].withinVar == b1[i].withinVar);
-                            CHECK(b0[i].pixelVar == b1[i].pixelVar);
-                            CHECK(b0[i].count == b1[i].count);
-                            // A bin's mean position lies inside it.
-                            CHECK(std::abs(b0[i].pos) <= 7.0 + 1e-9);
-                            pixels += b0[i].count;
+                            CHECK(b0.pos[i] == b1.pos[i]);
+                            CHECK(b0.value[i] == b1.value[i]);
+                            CHECK(b0.withinVar[i] == b1.withinVar[i]);
+                            CHECK(b0.pixelVar[i] == b1.pixelVar[i]);
+                            CHECK(b0.count[i] == b1.count[i]);
+                            // A bin's mean position lies inside it, in ascending order.
+                            CHECK(std::abs(b0.pos[i]) <= 7.0 + 1e-9);
+                            if (i > 0) CHECK(b0.pos[i] > b0.pos[i - 1]);
+                            pixels += static_cast<int>(b0.count[i]);
+                        }
+                        // Every bin count from 1 (the generic tail alone) to n0 (the vector
+                        // loop and its tail), so that each of the AVX2 loop's ends is reached.
+                        for (int n : {1, 2, 5, 6, 9, n0 - 1, n0}) {
+                            if (n < 1 || n > n0) continue;
+                            const detail::PairInputs in{b0.pos, b0.value, b0.withinVar};
+                            std::vector<double> x0(room), c0(room), s0(4 * room, -1.0);
+                            std::vector<double> x1(room), c1(room), s1(4 * room, -1.0);
+                            detail::pairTermsGeneric(in, 0, n, x0.data(), c0.data(), s0.data());
+                            detail::pairTermsAvx2(in, 0, n, x1.data(), c1.data(), s1.data());
+                            CHECK(std::equal(x0.begin(), x0.begin() + n - 1, x1.begin()));
+                            CHECK(std::equal(c0.begin(), c0.begin() + n - 1, c1.begin()));
+                            CHECK(std::equal(s0.begin(), s0.begin() + 4 * n, s1.begin()));
+                            // The running sum of the steps telescopes to the last bin's value
+                            // less the first's (to rounding: 1e-9 of a grey level).
+                            CHECK(std::abs(s0[4 * (n - 1)] - (b0.value[n - 1] - b0.value[0])) <
+                                  1e-9);
                         }
                         CHECK(pixels == static_cast<int>(
                                             counted - (e1[4 * e.bins] >> detail::kEsfCountShift)));
                     }
                 }
             }
+    // The pair terms' vector loop (four pairs from five bins on) ran on long ESFs too.
+    CHECK(mostBins >= 64);
 }
 
 TEST_CASE("the candidate counting and listing kernels agree with a plain count", "[blur][simd]") {
