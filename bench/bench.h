@@ -20,6 +20,7 @@ struct BenchRow {
     std::string baseline;              ///< what the baseline is, e.g. "cv::Laplacian+meanStdDev"
     std::string note;                  ///< threads used, target, ...
     std::string focusOperator = {};    ///< sharpness rows: the operator timed ("teng", ...)
+    std::optional<double> frameBlurPx = {};  ///< blur rows: the frame's true disc diameter, px
 };
 
 /// Options shared by all benchmarks.

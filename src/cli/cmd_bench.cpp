@@ -91,6 +91,7 @@ int runBench(const BenchArgs& args) {
                 j["baseline"] = row.baseline;
             }
             if (!row.focusOperator.empty()) j["operator"] = row.focusOperator;
+            if (row.frameBlurPx) j["frame_blur_width_px"] = *row.frameBlurPx;
             if (!row.note.empty()) j["note"] = row.note;
             std::cout << j.dump() << std::endl;
             return;
