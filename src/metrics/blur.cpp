@@ -298,13 +298,49 @@ CandidateGrid candidateGrid(const Luma8& img, const Bounds& roi, const BlurOptio
             step,         x0,           y0,           peak2,    minM};
 }
 
-// The @p cap strongest passing points of @p grid, strongest first. A point is a 64-bit key, |g|²
-// above its complemented grid index: the larger key is the stronger point, equal gradients in
-// scan order, so a longer list starts with a shorter one. Counting the points above a level (8 at
-// a time) finds, by bisection over 256 levels up to the peak, the highest level with at least cap
-// points above it; only those points (a few dozen of thousands) are then listed and ordered.
-std::vector<Candidate> strongestCandidates(const CandidateGrid& grid, const Kernels& k,
-                                           size_t cap) {
+// The strongest points of a candidate grid, handed out strongest first (CandidateList::at). Their
+// keys are put in order a block at a time as they are asked for: a region looks at about 20 of
+// its 64, so ordering them all, and making each a Candidate, was mostly wasted.
+class CandidateList {
+public:
+    CandidateList() = default;
+    // The @p size strongest of the @p listed keys @p keys (the grid's points) of @p grid.
+    CandidateList(const CandidateGrid& grid, uint64_t* keys, size_t listed, size_t size)
+        : grid_(&grid), keys_(keys), listed_(listed), size_(size) {}
+    size_t size() const { return size_; }
+    // The @p i-th strongest (i < size()).
+    Candidate at(size_t i) {
+        while (i >= ordered_) {
+            // Keys are unique (they hold the grid index), so the block after ordered_ is the
+            // same whichever way the rest was left: the order is exact.
+            const size_t next = std::min(size_, ordered_ + kBlock);
+            std::nth_element(keys_ + ordered_, keys_ + next, keys_ + listed_, std::greater<>());
+            std::sort(keys_ + ordered_, keys_ + next, std::greater<>());
+            ordered_ = next;
+        }
+        const size_t q = detail::candidateIndex(keys_[i]);
+        return {grid_->x0 + static_cast<int>(q % grid_->perRow) * grid_->step,
+                grid_->y0 + static_cast<int>(q / grid_->perRow) * grid_->step,
+                grid_->gx[q] / 8.0f,
+                grid_->gy[q] / 8.0f,
+                static_cast<float>(grid_->m[q]) * (1.0f / 64.0f),
+                q};
+    }
+
+private:
+    static constexpr size_t kBlock = 16;
+    const CandidateGrid* grid_ = nullptr;
+    uint64_t* keys_ = nullptr;
+    size_t listed_ = 0, size_ = 0, ordered_ = 0;
+};
+
+// The @p cap strongest passing points of @p grid, strongest first (the list lives until the next
+// call on this thread). A point is a 64-bit key, |g|² above its complemented grid index: the
+// larger key is the stronger point, equal gradients in scan order, so a longer list starts with
+// a shorter one. Counting the points above a level (8 at a time) finds, by bisection over 256
+// levels up to the peak, the highest level with at least cap points above it; only those points
+// (a few dozen of thousands) are then listed.
+CandidateList strongestCandidates(const CandidateGrid& grid, const Kernels& k, size_t cap) {
     if (grid.size == 0) return {};
     thread_local std::vector<uint64_t> keys;
     if (keys.size() < grid.size) keys.resize(grid.size);
@@ -334,19 +370,7 @@ std::vector<Candidate> strongestCandidates(const CandidateGrid& grid, const Kern
     const size_t listed = count > m ? k.listLevelsAtLeast(levels.data(), shift, grid.m, grid.size,
                                                           lowest, keys.data())
                                     : k.listAtLeast(grid.m, grid.size, lowest, keys.data());
-    std::nth_element(keys.begin(), keys.begin() + m, keys.begin() + listed, std::greater<>());
-    std::sort(keys.begin(), keys.begin() + m, std::greater<>());
-    std::vector<Candidate> out(m);
-    for (size_t i = 0; i < m; ++i) {
-        const size_t q = detail::candidateIndex(keys[i]);
-        out[i] = {grid.x0 + static_cast<int>(q % grid.perRow) * grid.step,
-                  grid.y0 + static_cast<int>(q / grid.perRow) * grid.step,
-                  grid.gx[q] / 8.0f,
-                  grid.gy[q] / 8.0f,
-                  static_cast<float>(grid.m[q]) * (1.0f / 64.0f),
-                  q};
-    }
-    return out;
+    return CandidateList(grid, keys.data(), listed, m);
 }
 
 // Radius (px) of the square about a seed in which oneSided weighs the gradients, and the least
@@ -925,7 +949,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     // order, so a longer list starts with the shorter one.
     size_t cap = 64;
     const CandidateGrid grid = candidateGrid(luma, r, options, kernels);
-    std::vector<Candidate> cands = strongestCandidates(grid, kernels, cap);
+    CandidateList cands = strongestCandidates(grid, kernels, cap);
     // Segment lengths, halved from the longest down to 6 px, share one probe: its slices along
     // the edge nest, the central 4·2^j of them covering the j-th shortest length.
     double lengths[kMaxLengths];
@@ -954,7 +978,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
             cands = strongestCandidates(grid, kernels, cap);
             if (i == cands.size()) break;
         }
-        const Candidate& c = cands[i];
+        const Candidate c = cands.at(i);
         next.fetch(kPrefetchRowsPerSeed);
         // Skip seeds on an edge already measured (or already rejected).
         const double px = c.x + 0.5, py = c.y + 0.5;
