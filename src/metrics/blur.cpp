@@ -540,6 +540,9 @@ struct Moments {
     double mean, var, binVar;
 };
 
+// Fewest non-empty bins an ESF needs to be fitted.
+constexpr size_t kMinEsfBins = 8;
+
 // The terms of each pair of neighbouring bins (i, i + 1) that lineSpreadMoments adds up, computed
 // once per ESF (detail::pairTermsGeneric): the running sums of the step and its products (so that
 // the fit's every window costs the same whatever its width), and the midpoint x and the bins' own
@@ -618,11 +621,11 @@ size_t firstAtOrAfter(const BinList& bins, double x) {
 // 2 σ, the pixel's at 0.71 px). The bins' own spread is removed here, the pixel's 1/12 by the
 // caller. The window starts over the whole patch (@p halfWidth about its middle), or, with
 // @p startRadius > 0, over ±startRadius about the patch's line (u = 0).
-EsfFit fitEsf(const BinList& bins, const Kernels& k, double halfWidth, double minContrast,
+EsfFit fitEsf(const BinList& bins, const PairTerms& terms, double halfWidth, double minContrast,
               double startRadius = 0.0) {
     EsfFit f;
     const size_t size = bins.size;
-    if (size < 8) return f;
+    if (size < kMinEsfBins) return f;
     const double* pos = bins.pos.data();
     const double* value = bins.value.data();
     const double* count = bins.count.data();
@@ -630,8 +633,6 @@ EsfFit fitEsf(const BinList& bins, const Kernels& k, double halfWidth, double mi
     const double first = pos[0], last = pos[size - 1];
     double mu = 0.5 * (first + last), radius = halfWidth;
     if (startRadius > 0.0) mu = 0.0, radius = std::min(startRadius, halfWidth);
-    thread_local PairTerms terms;
-    terms.set(bins, k);
     constexpr double kPlateauPx = 2.0;
     for (int iter = 0; iter < 6; ++iter) {
         const double wl = mu - radius, wr = mu + radius;
@@ -841,7 +842,10 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
             moveOnto(patch, line);
         }
         sampleEsf(img, b, k, patch, o.binPx, bins);
-        EsfFit f = fitEsf(bins, k, patch.hw, o.minContrast);
+        // The bin-pair terms once per ESF: every fit of these bins reads them.
+        thread_local PairTerms terms;
+        if (bins.size >= kMinEsfBins) terms.set(bins, k);
+        EsfFit f = fitEsf(bins, terms, patch.hw, o.minContrast);
         // The window started over the whole patch takes in, on crowded texture, the edges beside
         // this one, and may wander off it or lose its contrast. Where the probe's slab held the
         // derivative, the σ guessed from it bounds the edge's own line spread: the same bins are
@@ -852,7 +856,7 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
         // regions of 144 measure instead of 132.
         if (!usable(f) && pass == 0 && !cut) {
             const EsfFit g =
-                fitEsf(bins, k, patch.hw, o.minContrast, 4.0 * largestSigma(sd0) + 1.0);
+                fitEsf(bins, terms, patch.hw, o.minContrast, 4.0 * largestSigma(sd0) + 1.0);
             if (usable(g)) f = g;
         }
         if (f.ok && !usable(f)) return std::nullopt;
