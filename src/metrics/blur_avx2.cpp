@@ -109,6 +109,7 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
     const __m256 vthr = _mm256_set1_ps(g.thr), vhl = _mm256_set1_ps(g.hl);
     const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const __m256i top = _mm256_set1_epi32(g.slices - 1);
+    const __m256i eight = _mm256_set1_epi32(8);
     for (int k = 0; k < count; ++k) {
         const GeometrySpan& sp = spans[k];
         const uint8_t* r = sp.r;
@@ -117,9 +118,10 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
         const __m256i end = _mm256_set1_epi32(x1 - x0 + 1);
         int x = x0;
         // 8 pixels per step while the loads (up to x + 8 in this row and the next) stay inside
-        // the image's rows; lanes past x1 add zeros.
-        for (; x <= x1 && x + 8 < width; x += 8) {
-            const __m256i idx = _mm256_add_epi32(_mm256_set1_epi32(x - x0), iota);
+        // the image's rows; lanes past x1 add zeros. idx holds the lanes' x − x0.
+        const int last = std::min(x1, width - 9);
+        __m256i idx = iota;
+        for (; x <= last; x += 8, idx = _mm256_add_epi32(idx, eight)) {
             const __m256 dx = _mm256_sub_ps(widen8f(r + x + 1), widen8f(r + x - 1));
             const __m256 dy = _mm256_sub_ps(widen8f(r + x + stride), widen8f(r + x - stride));
             // Same operations and order as the generic kernel, so the same rounding (no FMA).
@@ -466,6 +468,7 @@ void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch
     const __m256i spare = _mm256_set1_epi32(e.bins);
     const __m256i one = _mm256_set1_epi32(1 << kEsfCountShift);
     const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i eight = _mm256_set1_epi32(8);
     alignas(32) int32_t bin[8];
     for (int k = 0; k < count; ++k) {
         const GeometrySpan& sp = spans[k];
@@ -474,9 +477,11 @@ void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch
         const __m256 vu0 = _mm256_set1_ps(sp.u0);
         const __m256i end = _mm256_set1_epi32(x1 - x0 + 1);
         int x = x0;
-        // 8 pixels per step while the 8-byte load stays inside the row.
-        for (; x <= x1 && x + 8 <= width; x += 8) {
-            const __m256i idx = _mm256_add_epi32(_mm256_set1_epi32(x - x0), iota);
+        // 8 pixels per step while the 8-byte load stays inside the row; idx holds the lanes'
+        // x − x0.
+        const int last = std::min(x1, width - 8);
+        __m256i idx = iota;
+        for (; x <= last; x += 8, idx = _mm256_add_epi32(idx, eight)) {
             // esfBin's float operations, in the same order.
             const __m256 uh =
                 _mm256_add_ps(_mm256_add_ps(vu0, _mm256_mul_ps(vnx, _mm256_cvtepi32_ps(idx))), vhw);
