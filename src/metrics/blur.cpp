@@ -859,8 +859,8 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
                 fitEsf(bins, terms, patch.hw, o.minContrast, 4.0 * largestSigma(sd0) + 1.0);
             if (usable(g)) f = g;
         }
-        if (f.ok && !usable(f)) return std::nullopt;
-        if (f.ok) return makeMeasurement(patch, f, line.straight, o);
+        if (usable(f)) return makeMeasurement(patch, f, line.straight, o);
+        if (f.ok) return std::nullopt;  // fitted, but clipped or collapsed: no wider patch helps
         if (!f.needWider || patch.hw >= o.maxHalfWidthPx) return std::nullopt;
         // A derivative held well inside the probe's slab, with a line spread that does not fit
         // in 4.5 σ + 3.5 px of it: the extra spread is another edge, shading or texture beside
