@@ -109,27 +109,22 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
     const __m256 vthr = _mm256_set1_ps(g.thr), vhl = _mm256_set1_ps(g.hl);
     const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const __m256i top = _mm256_set1_epi32(g.slices - 1);
-    const __m256i eight = _mm256_set1_epi32(8);
+    const __m256i eight = _mm256_set1_epi32(8), sixteen = _mm256_set1_epi32(16);
     for (int k = 0; k < count; ++k) {
         const GeometrySpan& sp = spans[k];
         const uint8_t* r = sp.r;
         const int x0 = sp.x0, x1 = sp.x1;
         const __m256 vu0 = _mm256_set1_ps(sp.u0), vt0 = _mm256_set1_ps(sp.t0);
         const __m256i end = _mm256_set1_epi32(x1 - x0 + 1);
-        int x = x0;
-        // 8 pixels per step while the loads (up to x + 8 in this row and the next) stay inside
-        // the image's rows; lanes past x1 add zeros. idx holds the lanes' x − x0.
-        const int last = std::min(x1, width - 9);
-        __m256i idx = iota;
-        for (; x <= last; x += 8, idx = _mm256_add_epi32(idx, eight)) {
-            const __m256 dx = _mm256_sub_ps(widen8f(r + x + 1), widen8f(r + x - 1));
-            const __m256 dy = _mm256_sub_ps(widen8f(r + x + stride), widen8f(r + x - stride));
-            // Same operations and order as the generic kernel, so the same rounding (no FMA).
+        // The 8 pixels whose lanes' x − x0 are idx, of central differences dx and dy (exact
+        // integers in float): the generic kernel's operations in the same order, so the same
+        // rounding (no FMA); lanes past x1 add zeros.
+        const auto eightPixels = [&](__m256 dx, __m256 dy, __m256i idx) {
             const __m256 d =
                 _mm256_mul_ps(half, _mm256_add_ps(_mm256_mul_ps(dx, vnx), _mm256_mul_ps(dy, vny)));
             const __m256 pass = _mm256_and_ps(_mm256_cmp_ps(d, vthr, _CMP_GT_OQ),
                                               _mm256_castsi256_ps(_mm256_cmpgt_epi32(end, idx)));
-            if (_mm256_testz_ps(pass, pass)) continue;
+            if (_mm256_testz_ps(pass, pass)) return;
             const __m256 fi = _mm256_cvtepi32_ps(idx);
             const __m256 w = _mm256_and_ps(pass, _mm256_sub_ps(d, vthr));
             const __m256 u = _mm256_add_ps(vu0, _mm256_mul_ps(vnx, fi));
@@ -152,7 +147,30 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
                 _mm256_storeu_ps(a + 3 * L,
                                  _mm256_add_ps(_mm256_loadu_ps(a + 3 * L), _mm256_and_ps(m, wuu)));
             }
+        };
+        int x = x0;
+        __m256i idx = iota;
+        // 16 pixels per step while the loads (up to x + 16 in this row and the next) stay inside
+        // the image's rows: the differences in 16 bits, then two steps of 8 in float
+        // (lane i still adds into partial i mod 8, in the same order). idx holds the lanes' x − x0.
+        const int last16 = std::min(x1, width - 17);
+        for (; x <= last16; x += 16, idx = _mm256_add_epi32(idx, sixteen)) {
+            const __m256i dx = _mm256_sub_epi16(widen16(r + x + 1), widen16(r + x - 1));
+            const __m256i dy = _mm256_sub_epi16(widen16(r + x + stride), widen16(r + x - stride));
+            const auto lo = [](__m256i v) {
+                return _mm256_cvtepi32_ps(_mm256_cvtepi16_epi32(_mm256_castsi256_si128(v)));
+            };
+            const auto hi = [](__m256i v) {
+                return _mm256_cvtepi32_ps(_mm256_cvtepi16_epi32(_mm256_extracti128_si256(v, 1)));
+            };
+            eightPixels(lo(dx), lo(dy), idx);
+            eightPixels(hi(dx), hi(dy), _mm256_add_epi32(idx, eight));
         }
+        // Then 8 pixels per step while the loads (up to x + 8) stay inside the rows.
+        const int last = std::min(x1, width - 9);
+        for (; x <= last; x += 8, idx = _mm256_add_epi32(idx, eight))
+            eightPixels(_mm256_sub_ps(widen8f(r + x + 1), widen8f(r + x - 1)),
+                        _mm256_sub_ps(widen8f(r + x + stride), widen8f(r + x - stride)), idx);
         // The last pixels of the image's last columns: the generic arithmetic, in the same lanes.
         if (x <= x1) geometryPixels(r, stride, x0, x, x1, sp.u0, sp.t0, g, acc);
     }
@@ -469,7 +487,7 @@ void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch
     const __m256i one = _mm256_set1_epi32(1 << kEsfCountShift);
     const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const __m256i eight = _mm256_set1_epi32(8);
-    alignas(32) int32_t bin[8];
+    alignas(32) uint32_t bin[8];
     for (int k = 0; k < count; ++k) {
         const GeometrySpan& sp = spans[k];
         const uint8_t* r = sp.r;
@@ -511,9 +529,11 @@ void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch
             // Pixels 0 and 4, 1 and 5, 2 and 6, 3 and 7, four words each, added from registers.
             const __m256i p04 = _mm256_unpacklo_epi64(t0, t2), p15 = _mm256_unpackhi_epi64(t0, t2);
             const __m256i p26 = _mm256_unpacklo_epi64(t1, t3), p37 = _mm256_unpackhi_epi64(t1, t3);
-            _mm256_store_si256(reinterpret_cast<__m256i*>(bin), kb);
+            // The bins' byte offsets (16 bytes a bin), unsigned: the address needs no shift or
+            // sign extension per pixel.
+            _mm256_store_si256(reinterpret_cast<__m256i*>(bin), _mm256_slli_epi32(kb, 4));
             const auto add = [&](int j, __m128i w) {
-                __m128i* dst = reinterpret_cast<__m128i*>(acc + 4 * bin[j]);
+                auto* dst = reinterpret_cast<__m128i*>(reinterpret_cast<char*>(acc) + bin[j]);
                 _mm_storeu_si128(dst, _mm_add_epi32(_mm_loadu_si128(dst), w));
             };
             add(0, _mm256_castsi256_si128(p04));
