@@ -5,6 +5,7 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <cstring>
 
 #include "blur_kernels.h"
 
@@ -50,15 +51,15 @@ int32_t sobelGridRowAvx2(const uint8_t* a, const uint8_t* m, const uint8_t* c, i
     int i = 0;
     // 16 points (32 pixels) per step. Read as 16-bit words from x − 1, a word holds the pixels
     // left of and at a point; from x + 1, its low byte is the pixel right of it. The loads reach
-    // x0 + 2i + 32, which must be inside the row.
-    auto block = [&](int j) {
-        const int x = x0 + 2 * j;
+    // x0 + 2i + 32, which must be inside the row. The block of points j.. reads the rows from
+    // @p pa, @p pm and @p pc on (their pixel x − 1 of the first point).
+    auto block = [&](const uint8_t* pa, const uint8_t* pm, const uint8_t* pc, int j) {
         const auto at = [](const uint8_t* p) {
             return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
         };
-        const __m256i aw = at(a + x - 1), ar = _mm256_and_si256(at(a + x + 1), low);
-        const __m256i mw = at(m + x - 1), mr = _mm256_and_si256(at(m + x + 1), low);
-        const __m256i cw = at(c + x - 1), cr = _mm256_and_si256(at(c + x + 1), low);
+        const __m256i aw = at(pa), ar = _mm256_and_si256(at(pa + 2), low);
+        const __m256i mw = at(pm), mr = _mm256_and_si256(at(pm + 2), low);
+        const __m256i cw = at(pc), cr = _mm256_and_si256(at(pc + 2), low);
         const __m256i al = _mm256_and_si256(aw, low), ac = _mm256_srli_epi16(aw, 8);
         const __m256i ml = _mm256_and_si256(mw, low);
         const __m256i cl = _mm256_and_si256(cw, low), cc = _mm256_srli_epi16(cw, 8);
@@ -82,12 +83,27 @@ int32_t sobelGridRowAvx2(const uint8_t* a, const uint8_t* m, const uint8_t* c, i
                             _mm256_permute2x128_si256(lo, hi, 0x31));
         peak = _mm256_max_epi32(peak, _mm256_max_epi32(lo, hi));
     };
+    const auto inPlace = [&](int j) {
+        const int x = x0 + 2 * j - 1;
+        block(a + x, m + x, c + x, j);
+    };
     for (; i + 16 <= count && x0 + 2 * i + 33 <= width; i += 16)
-        block(i);
+        inPlace(i);
     // The last points: one more vector ending at the last point, overlapping the previous one
-    // (the same values again), when the row has the bytes; else the generic kernel.
-    if (i < count && count >= 16 && x0 + 2 * (count - 16) + 33 <= width) {
-        block(count - 16);
+    // (the same values again). Where its loads would pass the row's end (the image's last
+    // columns), from a copy of the 33 bytes it uses (the byte after them only fills high bytes
+    // that are masked off).
+    if (i < count && count >= 16) {
+        const int x = x0 + 2 * (count - 16) - 1;
+        if (x + 34 <= width) {
+            inPlace(count - 16);
+        } else {
+            alignas(32) uint8_t rows[3][64] = {};
+            std::memcpy(rows[0], a + x, 33);
+            std::memcpy(rows[1], m + x, 33);
+            std::memcpy(rows[2], c + x, 33);
+            block(rows[0], rows[1], rows[2], count - 16);
+        }
         i = count;
     }
     // The lanes' largest by three halvings (a store and a scalar scan cost 24 instructions a row).
