@@ -7,12 +7,12 @@
 
 #include <array>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "infocus/synth.h"
+#include "tests/common/scratch_dir.h"
 
 namespace {
 
@@ -31,8 +31,8 @@ std::string writeEdge(const infocus::synth::Psf& psf, double angleDeg, uint64_t 
     for (int y = 0; y < m.rows; ++y)
         for (int x = 0; x < m.cols; ++x)
             m.at<uint8_t>(y, x) = img.view().at(x, y);
-    const std::string path =
-        (std::filesystem::temp_directory_path() / ("infocus_blur_" + name + ".png")).string();
+    static const infocus::test::ScratchDir scratch("infocus-test-blur-");  // removed at exit
+    const std::string path = scratch.file(name + ".png");
     REQUIRE(cv::imwrite(path, m));
     return path;
 }

@@ -14,16 +14,11 @@
 
 #include "infocus/source.h"
 #include "replay/replay_sources.h"
+#include "tests/common/scratch_dir.h"
 
 using namespace infocus;
 
 namespace {
-
-std::string tempDir() {
-    char tmpl[] = "/tmp/infocus-test-files-XXXXXX";
-    REQUIRE(::mkdtemp(tmpl) != nullptr);
-    return tmpl;
-}
 
 Result<std::unique_ptr<FrameSource>> openPath(const std::string& text) {
     auto spec = parseSourceSpec(text);
@@ -77,7 +72,8 @@ std::vector<Frame> readAll(FrameSource& src, int* errors = nullptr) {
 }  // namespace
 
 TEST_CASE("Y4M: 420, 422, 444 and mono deliver the luma plane") {
-    const std::string dir = tempDir();
+    const test::ScratchDir scratch("infocus-test-files-");
+    const std::string dir = scratch.path();
     const int w = 9, h = 6;  // odd width: chroma planes round up
     struct Case {
         std::string colour;
@@ -151,7 +147,8 @@ TEST_CASE("Y4M: 420, 422, 444 and mono deliver the luma plane") {
 }
 
 TEST_CASE("images: JPEG as MJPEG bytes, PNG as GREY or Y16, directories and globs in order") {
-    const std::string dir = tempDir();
+    const test::ScratchDir scratch("infocus-test-files-");
+    const std::string dir = scratch.path();
     cv::Mat grey(12, 20, CV_8UC1), wide(12, 20, CV_16UC1), colour(12, 20, CV_8UC3);
     for (int y = 0; y < 12; ++y)
         for (int x = 0; x < 20; ++x) {
@@ -230,7 +227,8 @@ TEST_CASE("the real focus stack plays as MJPEG frames in name order") {
 }
 
 TEST_CASE("video files play through OpenCV as GREY frames") {
-    const std::string path = tempDir() + "/clip.avi";
+    const test::ScratchDir scratch("infocus-test-files-");
+    const std::string path = scratch.file("clip.avi");
     {
         cv::VideoWriter vw(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 20.0, {64, 48});
         REQUIRE(vw.isOpened());

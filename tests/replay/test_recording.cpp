@@ -17,15 +17,18 @@
 #include "infocus/source.h"
 #include "replay/recording_format.h"
 #include "replay/replay_sources.h"
+#include "tests/common/scratch_dir.h"
 
 using namespace infocus;
 
 namespace {
 
+// A path for a new recording directory named @p name, in one scratch directory for the whole
+// run (removed at exit): some recordings outlive the function that wrote them.
 std::string tempDir(const std::string& name) {
-    char tmpl[] = "/tmp/infocus-test-rec-XXXXXX";
-    REQUIRE(::mkdtemp(tmpl) != nullptr);
-    return std::string(tmpl) + "/" + name;
+    static const test::ScratchDir scratch("infocus-test-rec-");
+    static int made = 0;
+    return scratch.file(name + std::to_string(++made));
 }
 
 uint8_t pattern(size_t i, unsigned plane, uint64_t seq) {
