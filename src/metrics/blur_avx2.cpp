@@ -152,6 +152,15 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
             // t is linear along the row, so the lanes' slices run from the first lane's to the
             // last's: one to three of them.
             const int sa = _mm256_extract_epi32(s, 0), sb = _mm256_extract_epi32(s, 7);
+            if (sa == sb) {
+                // All lanes in one slice (most rows of a patch nearly along y): no lane masks.
+                float* a = acc + M * L * sa;
+                _mm256_storeu_ps(a, _mm256_add_ps(_mm256_loadu_ps(a), w));
+                _mm256_storeu_ps(a + L, _mm256_add_ps(_mm256_loadu_ps(a + L), wu));
+                _mm256_storeu_ps(a + 2 * L, _mm256_add_ps(_mm256_loadu_ps(a + 2 * L), wt));
+                _mm256_storeu_ps(a + 3 * L, _mm256_add_ps(_mm256_loadu_ps(a + 3 * L), wuu));
+                return;
+            }
             for (int q = std::min(sa, sb); q <= std::max(sa, sb); ++q) {
                 const __m256 m = _mm256_castsi256_ps(_mm256_cmpeq_epi32(s, _mm256_set1_epi32(q)));
                 float* a = acc + M * L * q;
