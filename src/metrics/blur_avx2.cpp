@@ -245,6 +245,7 @@ int patchRowsAvx2(const PatchRows& s, GeometrySpan* out) {
     const __m256d half = _mm256_set1_pd(0.5);
     const __m256d bx0 = _mm256_set1_pd(s.bx0), bx1 = _mm256_set1_pd(s.bx1 - 1);
     const __m256d sign = _mm256_set1_pd(-0.0);
+    const __m256i rowStep = _mm256_setr_epi64x(0, s.stride, 2 * s.stride, 3 * s.stride);
     alignas(32) int32_t x0s[4], x1s[4];
     alignas(16) float us[4], ts[4];
     // Four rows at a time, the generic walk's double operations in the same order: max and min
@@ -267,10 +268,39 @@ int patchRowsAvx2(const PatchRows& s, GeometrySpan* out) {
         const __m256d u = _mm256_add_pd(_mm256_mul_pd(dx, nx), _mm256_mul_pd(dy, ny));
         const __m256d t =
             _mm256_add_pd(_mm256_mul_pd(_mm256_xor_pd(dx, sign), ny), _mm256_mul_pd(dy, nx));
-        _mm_store_si128(reinterpret_cast<__m128i*>(x0s), _mm256_cvttpd_epi32(x0));
-        _mm_store_si128(reinterpret_cast<__m128i*>(x1s), _mm256_cvttpd_epi32(x1));
-        _mm_store_ps(us, _mm256_cvtpd_ps(u));
-        _mm_store_ps(ts, _mm256_cvtpd_ps(t));
+        const __m128i ix0 = _mm256_cvttpd_epi32(x0), ix1 = _mm256_cvttpd_epi32(x1);
+        const __m128 fu = _mm256_cvtpd_ps(u), ft = _mm256_cvtpd_ps(t);
+        if (y + 3 <= s.y1 && _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(ix0, ix1))) == 0) {
+            // Four rows, none empty (the rows inside a patch): the four 24-byte spans, three
+            // 8-byte fields each (row pointer; x0, x1; u0, t0), put in place by permutes and
+            // written by three stores.
+            static_assert(sizeof(GeometrySpan) == 24);
+            const __m256i rp = _mm256_add_epi64(
+                _mm256_set1_epi64x(reinterpret_cast<intptr_t>(s.data + y * s.stride)), rowStep);
+            const __m256i xs =
+                _mm256_setr_m128i(_mm_unpacklo_epi32(ix0, ix1), _mm_unpackhi_epi32(ix0, ix1));
+            const __m256i ut = _mm256_castps_si256(
+                _mm256_setr_m128(_mm_unpacklo_ps(fu, ft), _mm_unpackhi_ps(fu, ft)));
+            const auto pick = [](__m256i r, __m256i x, __m256i v) {
+                return _mm256_blend_epi32(_mm256_blend_epi32(r, x, 0x0c), v, 0x30);
+            };
+            auto* o = reinterpret_cast<__m256i*>(out);
+            _mm256_storeu_si256(
+                o, pick(_mm256_permute4x64_epi64(rp, 0x40), _mm256_permute4x64_epi64(xs, 0x00),
+                        _mm256_permute4x64_epi64(ut, 0x00)));
+            _mm256_storeu_si256(
+                o + 1, pick(_mm256_permute4x64_epi64(xs, 0x81), _mm256_permute4x64_epi64(ut, 0x04),
+                            _mm256_permute4x64_epi64(rp, 0x20)));
+            _mm256_storeu_si256(
+                o + 2, pick(_mm256_permute4x64_epi64(ut, 0xc2), _mm256_permute4x64_epi64(rp, 0x0c),
+                            _mm256_permute4x64_epi64(xs, 0x30)));
+            out += 4;
+            continue;
+        }
+        _mm_store_si128(reinterpret_cast<__m128i*>(x0s), ix0);
+        _mm_store_si128(reinterpret_cast<__m128i*>(x1s), ix1);
+        _mm_store_ps(us, fu);
+        _mm_store_ps(ts, ft);
         for (int j = 0; j < 4 && y + j <= s.y1; ++j)
             if (x0s[j] <= x1s[j])
                 *out++ = {s.data + static_cast<ptrdiff_t>(y + j) * s.stride, x0s[j], x1s[j], us[j],
