@@ -751,9 +751,9 @@ void sampleEsf(const Luma8& img, const Bounds& b, const Kernels& k, const Patch&
     const auto bp = static_cast<float>(binPx);
     const detail::EsfPatch e{
         static_cast<float>(p.nx), static_cast<float>(p.hw), 1.0f / bp, bp, n, 2048.0f / bp};
-    // Four integer sums per bin and a spare one (see blur_kernels.h); scratch reused.
+    // Four integer sums per bin and the spare ones (see blur_kernels.h); scratch reused.
     thread_local std::vector<uint32_t> acc;
-    acc.assign(4 * static_cast<size_t>(n + 1), 0u);
+    acc.assign(4 * static_cast<size_t>(n + detail::kEsfSpareBins), 0u);
     const auto& spans = patchSpans(img, b, p, k);
     k.esfRows(spans.data(), static_cast<int>(spans.size()), img.width, e, acc.data());
     // Written in place, one division per bin: this runs for every bin of every ESF, a hundred

@@ -5,7 +5,9 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "blur_kernels.h"
 
@@ -532,16 +534,25 @@ void geometryReduceAvx2(const float* acc, int slices, double* out) {
     }
 }
 
-void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch& e,
-                 uint32_t* acc) {
+namespace {
+
+// esfRowsAvx2 for bins in @p copies copies of the accumulator: lane j adds into copy j mod
+// copies (copy 0 being acc), which the caller adds up.
+template <int Copies>
+void esfRowsInto(const GeometrySpan* spans, int count, int width, const EsfPatch& e, uint32_t* acc,
+                 uint32_t* copy1) {
     const __m256 vnx = _mm256_set1_ps(e.nx), vhw = _mm256_set1_ps(e.hw);
     const __m256 vinv = _mm256_set1_ps(e.inv), vbin = _mm256_set1_ps(e.binPx);
     const __m256 vhalf = _mm256_set1_ps(0.5f), vscale = _mm256_set1_ps(e.offsetScale);
     const __m256 vbins = _mm256_set1_ps(static_cast<float>(e.bins));
-    const __m256i spare = _mm256_set1_epi32(e.bins);
-    const __m256i one = _mm256_set1_epi32(1 << kEsfCountShift);
     const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    // A spare bin per lane: the lanes past a row's end (a third of them on a typical row) would
+    // otherwise each wait for the last one's add to the same bin.
+    const __m256i spare = _mm256_add_epi32(_mm256_set1_epi32(e.bins), iota);
+    const __m256i one = _mm256_set1_epi32(1 << kEsfCountShift);
     const __m256i eight = _mm256_set1_epi32(8);
+    char* const base0 = reinterpret_cast<char*>(acc);
+    char* const base1 = reinterpret_cast<char*>(Copies == 2 ? copy1 : acc);
     alignas(32) uint32_t bin[8];
     for (int k = 0; k < count; ++k) {
         const GeometrySpan& sp = spans[k];
@@ -587,21 +598,42 @@ void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch
             // The bins' byte offsets (16 bytes a bin), unsigned: the address needs no shift or
             // sign extension per pixel.
             _mm256_store_si256(reinterpret_cast<__m256i*>(bin), _mm256_slli_epi32(kb, 4));
-            const auto add = [&](int j, __m128i w) {
-                auto* dst = reinterpret_cast<__m128i*>(reinterpret_cast<char*>(acc) + bin[j]);
+            const auto add = [&](char* base, int j, __m128i w) {
+                auto* dst = reinterpret_cast<__m128i*>(base + bin[j]);
                 _mm_storeu_si128(dst, _mm_add_epi32(_mm_loadu_si128(dst), w));
             };
-            add(0, _mm256_castsi256_si128(p04));
-            add(1, _mm256_castsi256_si128(p15));
-            add(2, _mm256_castsi256_si128(p26));
-            add(3, _mm256_castsi256_si128(p37));
-            add(4, _mm256_extracti128_si256(p04, 1));
-            add(5, _mm256_extracti128_si256(p15, 1));
-            add(6, _mm256_extracti128_si256(p26, 1));
-            add(7, _mm256_extracti128_si256(p37, 1));
+            add(base0, 0, _mm256_castsi256_si128(p04));
+            add(base1, 1, _mm256_castsi256_si128(p15));
+            add(base0, 2, _mm256_castsi256_si128(p26));
+            add(base1, 3, _mm256_castsi256_si128(p37));
+            add(base0, 4, _mm256_extracti128_si256(p04, 1));
+            add(base1, 5, _mm256_extracti128_si256(p15, 1));
+            add(base0, 6, _mm256_extracti128_si256(p26, 1));
+            add(base1, 7, _mm256_extracti128_si256(p37, 1));
         }
         // The last pixels of the image's last columns: the generic arithmetic.
         if (x <= x1) esfPixels(r, x0, x, x1, sp.u0, e, acc);
+    }
+}
+
+}  // namespace
+
+void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch& e,
+                 uint32_t* acc) {
+    // Where neighbouring pixels of a row fall in one bin (an edge within 14° of the rows, for
+    // ¼ px bins), each pixel's add would wait for the one before it; there the odd lanes add into
+    // a second copy of the bins, added to the first at the end. Elsewhere that copy costs more
+    // than it saves.
+    if (std::abs(e.nx) >= e.binPx) return esfRowsInto<1>(spans, count, width, e, acc, nullptr);
+    const size_t words = 4 * static_cast<size_t>(e.bins + kEsfSpareBins);
+    thread_local std::vector<uint32_t> copy;
+    copy.assign(words, 0u);
+    esfRowsInto<2>(spans, count, width, e, acc, copy.data());
+    for (size_t i = 0; i < words; i += 4) {
+        auto* dst = reinterpret_cast<__m128i*>(acc + i);
+        _mm_storeu_si128(
+            dst, _mm_add_epi32(_mm_loadu_si128(dst),
+                               _mm_loadu_si128(reinterpret_cast<const __m128i*>(copy.data() + i))));
     }
 }
 

@@ -167,6 +167,10 @@ struct EsfPatch {
 constexpr int kEsfCountShift = 20;
 /// Most pixels one bin may receive (the packed count and the δ² sum stay in 32 bits).
 constexpr int kEsfMaxBinPixels = 2047;
+/// Spare bins after an ESF's own (indices bins..bins + 7), for the pixels outside it: the generic
+/// kernel uses the first, the vector kernel one per lane, so that the lanes past a row's end do
+/// not queue on one bin's memory.
+constexpr int kEsfSpareBins = 8;
 
 /// The bin and offset of the pixel at lane offset @p fi of a row starting at u0 (shared by both
 /// ESF kernels so that their float arithmetic is the same); the spare bin for pixels outside.
@@ -241,12 +245,12 @@ void pairTermsGeneric(const PairInputs& b, int from, int n, double* x, double* c
 void pairTermsAvx2(const PairInputs& b, int from, int n, double* x, double* c, double* sums);
 
 /// Bins the pixels of the @p count rows @p spans (of an image @p width pixels wide) into @p acc,
-/// four unsigned words per bin plus one spare bin (index bins) for the pixels outside:
-/// [Σv + count·2²⁰, Σv², Σδ, Σδ²]. Integer (wrapping) additions: any order of the pixels gives
-/// the same sums. At most kEsfMaxBinPixels pixels may fall in one bin.
+/// four unsigned words per bin plus kEsfSpareBins spare ones for the pixels outside (their sums
+/// mean nothing): [Σv + count·2²⁰, Σv², Σδ, Σδ²]. Integer (wrapping) additions: any order of the
+/// pixels gives the same sums. At most kEsfMaxBinPixels pixels may fall in one bin.
 void esfRowsGeneric(const GeometrySpan* spans, int count, int width, const EsfPatch& e,
                     uint32_t* acc);
-/// esfRowsGeneric with AVX2 (check haveAvx2() first): the same sums.
+/// esfRowsGeneric with AVX2 (check haveAvx2() first): the same sums in bins 0..bins − 1.
 void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch& e, uint32_t* acc);
 
 }  // namespace infocus::detail
