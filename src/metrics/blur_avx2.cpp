@@ -203,6 +203,41 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
     }
 }
 
+void orderKeysAvx2(const uint64_t* keys, size_t n, size_t m, uint64_t* out) {
+    // Keys are below 2⁶³ (|g|² < 2³¹ above the index), so signed compares order them; the
+    // padding (0) is below every key and is never counted above one.
+    alignas(32) uint64_t pad[kMaxOrderKeys + 4] = {};
+    std::memcpy(pad, keys, n * sizeof(uint64_t));
+    const size_t n4 = (n + 3) & ~size_t{3};
+    const __m256i* v = reinterpret_cast<const __m256i*>(pad);
+    alignas(32) int64_t rank[4];
+    for (size_t i = 0; i < n4; i += 4) {
+        const __m256i k0 = _mm256_set1_epi64x(static_cast<int64_t>(pad[i]));
+        const __m256i k1 = _mm256_set1_epi64x(static_cast<int64_t>(pad[i + 1]));
+        const __m256i k2 = _mm256_set1_epi64x(static_cast<int64_t>(pad[i + 2]));
+        const __m256i k3 = _mm256_set1_epi64x(static_cast<int64_t>(pad[i + 3]));
+        __m256i a0 = _mm256_setzero_si256(), a1 = a0, a2 = a0, a3 = a0;
+        // A true compare is −1: subtracting it counts the keys above.
+        for (size_t j = 0; j < n4 / 4; ++j) {
+            const __m256i x = _mm256_load_si256(v + j);
+            a0 = _mm256_sub_epi64(a0, _mm256_cmpgt_epi64(x, k0));
+            a1 = _mm256_sub_epi64(a1, _mm256_cmpgt_epi64(x, k1));
+            a2 = _mm256_sub_epi64(a2, _mm256_cmpgt_epi64(x, k2));
+            a3 = _mm256_sub_epi64(a3, _mm256_cmpgt_epi64(x, k3));
+        }
+        // The four counts' lanes added up: [a0, a1, a2, a3] in one vector.
+        const __m256i s01 =
+            _mm256_add_epi64(_mm256_unpacklo_epi64(a0, a1), _mm256_unpackhi_epi64(a0, a1));
+        const __m256i s23 =
+            _mm256_add_epi64(_mm256_unpacklo_epi64(a2, a3), _mm256_unpackhi_epi64(a2, a3));
+        const __m256i r = _mm256_add_epi64(_mm256_permute2x128_si256(s01, s23, 0x20),
+                                           _mm256_permute2x128_si256(s01, s23, 0x31));
+        _mm256_store_si256(reinterpret_cast<__m256i*>(rank), r);
+        for (size_t q = 0; q < 4 && i + q < n; ++q)
+            if (static_cast<size_t>(rank[q]) < m) out[rank[q]] = pad[i + q];
+    }
+}
+
 void oneSidedSumsAvx2(const int16_t* gx, const int16_t* gy, ptrdiff_t stride, int width, int rows,
                       int32_t nx, int32_t ny, int64_t* along, int64_t* magnitude) {
     if (width > 16)

@@ -56,6 +56,16 @@ size_t listAtLeastGeneric(const int32_t* m, size_t n, int32_t v, uint64_t* keys)
 /// listAtLeastGeneric with AVX2 (check haveAvx2() first).
 size_t listAtLeastAvx2(const int32_t* m, size_t n, int32_t v, uint64_t* keys);
 
+/// Most keys orderKeys takes: it compares every key with every other.
+constexpr size_t kMaxOrderKeys = 128;
+/// Writes the @p m largest of the @p n distinct keys @p keys (candidateKeys, n ≤ kMaxOrderKeys,
+/// m ≤ n), largest first, to @p out.
+void orderKeysGeneric(const uint64_t* keys, size_t n, size_t m, uint64_t* out);
+/// orderKeysGeneric with AVX2 (check haveAvx2() first): each key's place is the number of keys
+/// above it, counted four keys against four at a compare, with no branch on the data; the same
+/// keys in the same order.
+void orderKeysAvx2(const uint64_t* keys, size_t n, size_t m, uint64_t* out);
+
 /// Adds, over @p rows rows of @p width grid points from @p gx / @p gy (rows @p stride points
 /// apart), d = gx·nx + gy·ny to @p along and |d| to @p magnitude (|gx|, |gy|, |nx|, |ny| ≤ 1020).
 void oneSidedSumsGeneric(const int16_t* gx, const int16_t* gy, ptrdiff_t stride, int width,

@@ -354,6 +354,34 @@ TEST_CASE("the candidate counting and listing kernels agree with a plain count",
         }
 }
 
+TEST_CASE("the candidate ordering kernels give the strongest keys in order", "[blur][simd]") {
+    if (!detail::haveAvx2()) {
+        WARN("no AVX2 on this CPU; skipped");
+        return;
+    }
+    // Distinct candidate keys with many equal gradients (keys then differ in their index only)
+    // and the largest gradient a grid can hold.
+    uint64_t state = 99;
+    std::vector<uint64_t> keys(detail::kMaxOrderKeys);
+    for (size_t i = 0; i < keys.size(); ++i) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        const auto mag2 = static_cast<int32_t>(i % 5 == 0 ? 777 : (state >> 33) % 2000000);
+        keys[i] = detail::candidateKey(i == 3 ? INT32_MAX : mag2, 10 * i + (state >> 60));
+    }
+    for (size_t n : {size_t{1}, size_t{3}, size_t{4}, size_t{5}, size_t{63}, size_t{64}, size_t{97},
+                     detail::kMaxOrderKeys})
+        for (size_t m : {size_t{1}, size_t{16}, size_t{64}, n}) {
+            if (m > n) continue;
+            std::vector<uint64_t> sorted(keys.begin(), keys.begin() + n);
+            std::sort(sorted.begin(), sorted.end(), std::greater<>());
+            std::vector<uint64_t> o0(m, 0), o1(m, 0);
+            detail::orderKeysGeneric(keys.data(), n, m, o0.data());
+            detail::orderKeysAvx2(keys.data(), n, m, o1.data());
+            CHECK(std::equal(o0.begin(), o0.end(), sorted.begin()));
+            CHECK(o1 == o0);
+        }
+}
+
 TEST_CASE("the candidate level kernels agree with a plain shift and count", "[blur][simd]") {
     if (!detail::haveAvx2()) {
         WARN("no AVX2 on this CPU; skipped");
