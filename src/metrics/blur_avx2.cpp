@@ -516,8 +516,11 @@ size_t listLevelsAtLeastAvx2(const uint8_t* levels, int shift, const int32_t* m,
         auto bits = static_cast<uint32_t>(
             _mm256_movemask_epi8(_mm256_cmpeq_epi8(_mm256_max_epu8(x, vl), x)));
         while (bits) {
+            // Written always, kept when m[j] ≥ v: no branch on the points at the level's edge
+            // (listed ≤ j, so the write stays inside the n keys).
             const size_t j = i + static_cast<size_t>(__builtin_ctz(bits));
-            if (m[j] >= v) keys[listed++] = candidateKey(m[j], j);
+            keys[listed] = candidateKey(m[j], j);
+            listed += m[j] >= v;
             bits &= bits - 1;
         }
     }
