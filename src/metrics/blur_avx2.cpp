@@ -206,9 +206,10 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
 void orderKeysAvx2(const uint64_t* keys, size_t n, size_t m, uint64_t* out) {
     // Keys are below 2⁶³ (|g|² < 2³¹ above the index), so signed compares order them; the
     // padding (0) is below every key and is never counted above one.
-    alignas(32) uint64_t pad[kMaxOrderKeys + 4] = {};
+    alignas(32) uint64_t pad[kMaxOrderKeys + 4];
     std::memcpy(pad, keys, n * sizeof(uint64_t));
     const size_t n4 = (n + 3) & ~size_t{3};
+    std::fill(pad + n, pad + n4, uint64_t{0});
     const __m256i* v = reinterpret_cast<const __m256i*>(pad);
     alignas(32) int64_t rank[4];
     for (size_t i = 0; i < n4; i += 4) {
@@ -574,8 +575,8 @@ void geometryReduceAvx2(const float* acc, int slices, double* out) {
 
 namespace {
 
-// esfRowsAvx2 for bins in @p copies copies of the accumulator: lane j adds into copy j mod
-// copies (copy 0 being acc), which the caller adds up.
+// esfRowsAvx2 into Copies (1 or 2) copies of the bins: lane j adds into copy j mod Copies, copy 0
+// being @p acc and copy 1 @p copy1, which the caller adds to it.
 template <int Copies>
 void esfRowsInto(const GeometrySpan* spans, int count, int width, const EsfPatch& e, uint32_t* acc,
                  uint32_t* copy1) {
