@@ -132,7 +132,7 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
     // normal times 16384, rounded (int16), dx·Nx + dy·Ny is within (|dx| + |dy|)/2 ≤ 255 of
     // 16384 (dx·nx + dy·ny), and the float d within 3.1e-5 of half of dx·nx + dy·ny; so where
     // the integer sum is at most T = ⌊16384 (2 thr − 0.02)⌋, d ≤ thr − 0.002 and the pixel fails
-    // d > thr. Half of the 8-pixel halves of the bench frame's patches hold none above T: they
+    // d > thr. Two thirds of the 8-pixel halves of the bench frame's patches hold none: they
     // skip the conversion to float and the float test. The same sums.
     const auto nxq = static_cast<int16_t>(std::lround(g.nx * 16384.0f));
     const auto nyq = static_cast<int16_t>(std::lround(g.ny * 16384.0f));
