@@ -208,7 +208,10 @@ void geometryRowsAvx2(const GeometrySpan* spans, int count, ptrdiff_t stride, in
             const int maybe = _mm256_movemask_ps(_mm256_castsi256_ps(
                 _mm256_or_si256(_mm256_cmpgt_epi32(pl, vT), _mm256_cmpgt_epi32(ph, vT))));
             if (maybe & 0x0f) eightPixels(lo(dx), lo(dy), idx);
-            if (maybe & 0xf0) eightPixels(hi(dx), hi(dy), _mm256_add_epi32(idx, eight));
+            // (A row's last step often has no pixel of its own in its second half; the pixels
+            // read there are past the row's end.)
+            if ((maybe & 0xf0) && x + 8 <= x1)
+                eightPixels(hi(dx), hi(dy), _mm256_add_epi32(idx, eight));
         }
         // Then 8 pixels per step while the loads (up to x + 8) stay inside the rows.
         const int last = std::min(x1, width - 9);
