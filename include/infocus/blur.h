@@ -13,21 +13,24 @@
 
 namespace infocus {
 
-/// Tuning knobs of measureBlur; the defaults suit 8-bit video-rate use.
+/// Tuning knobs of measureBlur; the defaults suit 8-bit video-rate use. A value outside a knob's
+/// range is taken as the nearest one inside it, and one that is not a number as the default.
 struct BlurOptions {
-    int maxEdges = 4;       ///< edge segments measured per region (more: slower, steadier)
-    int candidateStep = 2;  ///< grid step (px) of the cheap gradient that finds edges
-    /// Half-length of each edge segment along the edge, px; 0: a quarter of the region's
-    /// smaller side, clamped to 8..48; at most 500.
+    int maxEdges = 4;       ///< edge segments measured per region, 1..256 (more: slower, steadier)
+    int candidateStep = 2;  ///< grid step (px) of the cheap gradient that finds edges, 1..64
+    /// Half-length of each edge segment along the edge, px, 6..500; 0: a quarter of the
+    /// region's smaller side, clamped to 8..48.
     double edgeHalfLengthPx = 0;
-    double maxHalfWidthPx = 64;  ///< largest half-width sampled across an edge (caps the blur)
+    /// Largest half-width sampled across an edge, px, 6..1024 (caps the blur).
+    double maxHalfWidthPx = 64;
     double binPx = 0.25;  ///< ESF bin width across the edge (slanted-edge oversampling), 1/16..1
-    double minContrast = 12.0;      ///< grey levels between the two sides for an edge to count
-    double minGradient = 1.0;       ///< grey levels per pixel for an edge candidate
-    double relativeGradient = 0.3;  ///< candidates need ≥ this fraction of the region's peak
+    double minContrast = 12.0;  ///< grey levels between the two sides for an edge to count, 0..255
+    double minGradient = 1.0;   ///< grey levels per pixel for an edge candidate, 0..1020
+    double relativeGradient = 0.3;  ///< candidates need ≥ this fraction of the region's peak, 0..1
     bool sampleOutsideRoi = true;   ///< let an edge's profile extend past the region (not seeds)
-    /// Known in-focus blur of the optics (diffraction, aberrations), as a Gaussian σ in pixels,
-    /// removed in quadrature like the pixel's area; 0 keeps the optics' share in the result.
+    /// Known in-focus blur of the optics (diffraction, aberrations), as a Gaussian σ in pixels
+    /// (0..1024), removed in quadrature like the pixel's area; 0 keeps the optics' share in the
+    /// result.
     double opticsFloorSigmaPx = 0.0;
     /// Use the AVX2 pixel kernels when the CPU has them (same results); false runs the generic
     /// reference code.

@@ -778,6 +778,11 @@ void sampleEsf(const Luma8& img, const Bounds& b, const Kernels& k, const Patch&
 
 // Half-width (px) of the slab across the edge in which the geometry is first fitted.
 constexpr double kProbeHalfWidthPx = 6.0;
+// Ranges of the options (BlurOptions, sanitized): the shortest segment measured (its half-length,
+// px), the widest ESF half-width (px; a blur of some 800 px), the most edges a region and the
+// coarsest candidate grid.
+constexpr double kShortestHalfLengthPx = 6.0, kMaxHalfWidthPx = 1024.0;
+constexpr int kMaxEdgesPerRegion = 256, kMaxCandidateStep = 64;
 
 // The measurement of the edge on @p patch from its ESF fit @p f.
 EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, double straight,
@@ -934,18 +939,44 @@ private:
 // seeds a region of the bench's grid looks at (most are passed over cheaply).
 constexpr int kPrefetchRowsPerSeed = 8;
 
-// measureEdges, asking the cache for the pixels of @p next meanwhile.
-std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Rect& roi,
-                                                     const BlurOptions& given,
-                                                     RowPrefetcher& next) {
+// @p given with every knob in its range (blur.h): a value outside it taken as the nearest one
+// inside, one that is not a number as the default. The engine's sizes follow from these (the
+// bins of a patch, the slices of a probe, the candidate grid), so an unchecked value would cost
+// memory or read past the scratch rather than only give a poor measurement.
+BlurOptions sanitized(const BlurOptions& given) {
+    const BlurOptions defaults;
+    const auto in = [](double v, double fallback, double lo, double hi) {
+        return std::isnan(v) ? fallback : std::clamp(v, lo, hi);
+    };
     // The ESF kernels' integer sums hold kEsfMaxBinPixels pixels a bin: bins of at most 1 px
     // along segments of at most 2 × 500 px (a bin of an axis-aligned edge takes one column of
     // the patch, one pixel a row).
     constexpr double kMaxHalfLengthPx = 500.0;
     static_assert(2 * kMaxHalfLengthPx + 1 <= detail::kEsfMaxBinPixels);
-    BlurOptions options = given;
-    options.binPx = std::clamp(given.binPx, 1.0 / 16.0, 1.0);
-    options.edgeHalfLengthPx = std::min(given.edgeHalfLengthPx, kMaxHalfLengthPx);
+    BlurOptions o = given;
+    o.maxEdges = std::clamp(given.maxEdges, 1, kMaxEdgesPerRegion);
+    o.candidateStep = std::clamp(given.candidateStep, 1, kMaxCandidateStep);
+    // 0 (or less, or not a number) picks the length from the region; a length is at least the
+    // shortest segment measured.
+    o.edgeHalfLengthPx =
+        given.edgeHalfLengthPx > 0.0
+            ? std::clamp(given.edgeHalfLengthPx, kShortestHalfLengthPx, kMaxHalfLengthPx)
+            : 0.0;
+    o.maxHalfWidthPx =
+        in(given.maxHalfWidthPx, defaults.maxHalfWidthPx, kProbeHalfWidthPx, kMaxHalfWidthPx);
+    o.binPx = in(given.binPx, defaults.binPx, 1.0 / 16.0, 1.0);
+    o.minContrast = in(given.minContrast, defaults.minContrast, 0.0, 255.0);
+    o.minGradient = in(given.minGradient, defaults.minGradient, 0.0, 1020.0);
+    o.relativeGradient = in(given.relativeGradient, defaults.relativeGradient, 0.0, 1.0);
+    o.opticsFloorSigmaPx = in(given.opticsFloorSigmaPx, 0.0, 0.0, kMaxHalfWidthPx);
+    return o;
+}
+
+// measureEdges, asking the cache for the pixels of @p next meanwhile.
+std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Rect& roi,
+                                                     const BlurOptions& given,
+                                                     RowPrefetcher& next) {
+    const BlurOptions options = sanitized(given);
     std::vector<EdgeMeasurement> out;
     if (luma.empty() || luma.width < 3 || luma.height < 3) return out;
     const Bounds r = clipRect(roi, luma.width, luma.height);
@@ -954,7 +985,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     Bounds sb = options.sampleOutsideRoi ? Bounds{0, 0, luma.width, luma.height} : r;
     sb = {std::max(sb.x0, 1), std::max(sb.y0, 1), std::min(sb.x1, luma.width - 1),
           std::min(sb.y1, luma.height - 1)};
-    const int maxEdges = std::max(1, options.maxEdges);
+    const int maxEdges = options.maxEdges;
     // Longer segments average more pixels per ESF bin (less noise) but must stay straight and
     // inside the region's scale: a quarter of the region's smaller side unless told.
     const double halfLength =
@@ -973,7 +1004,8 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     // the edge nest, the central 4·2^j of them covering the j-th shortest length.
     double lengths[kMaxLengths];
     int nLengths = 0;
-    for (double len = halfLength; len >= 6.0 && nLengths < kMaxLengths; len *= 0.5)
+    for (double len = halfLength; len >= kShortestHalfLengthPx && nLengths < kMaxLengths;
+         len *= 0.5)
         lengths[nLengths++] = len;
     const int slices = 4 << (nLengths - 1);
     thread_local std::vector<Slice> probe;
@@ -1066,7 +1098,8 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
 }
 
 // The region's blur from its edges (measureBlur).
-BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const BlurOptions& options) {
+BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const BlurOptions& given) {
+    const BlurOptions options = sanitized(given);
     BlurEstimate est;
     std::vector<const EdgeMeasurement*> good;
     for (const EdgeMeasurement& e : edges)

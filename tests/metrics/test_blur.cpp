@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -172,6 +173,68 @@ TEST_CASE("a slanted chequerboard reads its blur in every region", "[blur]") {
         std::sort(sigmas.begin(), sigmas.end());
         CHECK(0.5 * (sigmas[2] + sigmas[3]) == Approx(s).epsilon(0.08));
     }
+}
+
+TEST_CASE("options outside their ranges act as the nearest valid value, non-numbers as defaults",
+          "[blur]") {
+    // Each knob sizes something (the bins of a patch, the slices of a probe, the candidate
+    // grid): an unchecked value read past the engine's scratch (a half-length under 6 px left
+    // the probe no slice) or asked for unbounded memory. A dead-leaves region of known blur,
+    // measured with a value out of range, must give exactly what the nearest valid value gives.
+    synth::SharpCanvas canvas = synth::makeCanvas(200, 200, 2);
+    synth::paintDeadLeaves(canvas, 5, 4.0, 60.0);
+    const auto img =
+        synth::toLuma8(synth::renderSharp(canvas, {synth::Psf::disc(6.0), 2, 1.0, 7}).pixels);
+    const Rect all{0, 0, 200, 200};
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    const auto same = [&](const BlurOptions& a, const BlurOptions& b) {
+        const BlurEstimate x = measureBlur(img.view(), all, a), y = measureBlur(img.view(), all, b);
+        CHECK(x.discDiameterPx.has_value() == y.discDiameterPx.has_value());
+        if (x.discDiameterPx && y.discDiameterPx) CHECK(*x.discDiameterPx == *y.discDiameterPx);
+        CHECK(x.confidence == y.confidence);
+        CHECK(x.edgeCount == y.edgeCount);
+    };
+    const auto with = [](auto set) {
+        BlurOptions o;
+        set(o);
+        return o;
+    };
+    // The reference itself measures the region near its blur.
+    const BlurEstimate base = measureBlur(img.view(), all);
+    REQUIRE(base.discDiameterPx.has_value());
+    CHECK(*base.discDiameterPx == Approx(6.0).epsilon(0.25));
+    for (double v : {-5.0, 0.5, 2.0, 5.9}) {
+        INFO("edgeHalfLengthPx " << v);
+        same(with([&](BlurOptions& o) { o.edgeHalfLengthPx = v; }),
+             with([&](BlurOptions& o) { o.edgeHalfLengthPx = v > 0 ? 6.0 : 0.0; }));
+    }
+    same(with([](BlurOptions& o) { o.edgeHalfLengthPx = inf; }),
+         with([](BlurOptions& o) { o.edgeHalfLengthPx = 500.0; }));
+    same(with([](BlurOptions& o) { o.edgeHalfLengthPx = nan; }), BlurOptions{});
+    for (double v : {-inf, 0.0, 3.0}) {
+        INFO("maxHalfWidthPx " << v);
+        same(with([&](BlurOptions& o) { o.maxHalfWidthPx = v; }),
+             with([](BlurOptions& o) { o.maxHalfWidthPx = 6.0; }));
+    }
+    same(with([](BlurOptions& o) { o.maxHalfWidthPx = 1e12; }),
+         with([](BlurOptions& o) { o.maxHalfWidthPx = 1024.0; }));
+    same(with([](BlurOptions& o) { o.maxHalfWidthPx = nan; }), BlurOptions{});
+    same(with([](BlurOptions& o) { o.binPx = nan; }), BlurOptions{});
+    same(with([](BlurOptions& o) { o.binPx = 0.0; }),
+         with([](BlurOptions& o) { o.binPx = 1.0 / 16.0; }));
+    same(with([](BlurOptions& o) { o.binPx = 5.0; }), with([](BlurOptions& o) { o.binPx = 1.0; }));
+    same(with([](BlurOptions& o) { o.maxEdges = -5; }),
+         with([](BlurOptions& o) { o.maxEdges = 1; }));
+    same(with([](BlurOptions& o) { o.candidateStep = 0; }),
+         with([](BlurOptions& o) { o.candidateStep = 1; }));
+    same(with([](BlurOptions& o) { o.minGradient = nan; }), BlurOptions{});
+    same(with([](BlurOptions& o) { o.relativeGradient = nan; }), BlurOptions{});
+    same(with([](BlurOptions& o) { o.relativeGradient = -1.0; }),
+         with([](BlurOptions& o) { o.relativeGradient = 0.0; }));
+    same(with([](BlurOptions& o) { o.minContrast = nan; }), BlurOptions{});
+    same(with([](BlurOptions& o) { o.opticsFloorSigmaPx = -5.0; }), BlurOptions{});
+    same(with([](BlurOptions& o) { o.opticsFloorSigmaPx = nan; }), BlurOptions{});
 }
 
 TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][simd]") {
