@@ -71,12 +71,16 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
                                  " frame has pixels; use a coarser grid");
     } else {
         for (const Rect& r : o.rois) {
-            if (r.x + r.w > img.width || r.y + r.h > img.height)
+            // In 64 bits: x + w of a rectangle given near INT_MAX must not wrap around.
+            if (static_cast<int64_t>(r.x) + r.w > img.width ||
+                static_cast<int64_t>(r.y) + r.h > img.height)
                 return makeError(ErrorKind::Usage,
                                  "ROI " + std::to_string(r.x) + "," + std::to_string(r.y) + "," +
                                      std::to_string(r.w) + "," + std::to_string(r.h) +
                                      " reaches outside the " + std::to_string(img.width) + "x" +
-                                     std::to_string(img.height) + " frame");
+                                     std::to_string(img.height) + " frame; keep x + w within " +
+                                     std::to_string(img.width) + " and y + h within " +
+                                     std::to_string(img.height));
             rects.push_back(r);
         }
     }

@@ -3,6 +3,7 @@
 // 1 % noise, 8-bit), and the real focus stacks, where blur must bottom out where sharpness peaks.
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <climits>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -235,6 +236,20 @@ TEST_CASE("options outside their ranges act as the nearest valid value, non-numb
     same(with([](BlurOptions& o) { o.minContrast = nan; }), BlurOptions{});
     same(with([](BlurOptions& o) { o.opticsFloorSigmaPx = -5.0; }), BlurOptions{});
     same(with([](BlurOptions& o) { o.opticsFloorSigmaPx = nan; }), BlurOptions{});
+}
+
+TEST_CASE("a region reaching past INT_MAX is clipped to the image, not wrapped", "[blur]") {
+    // x + w of such a rectangle overflowed and the region came out empty (or worse).
+    const auto img = edgeImage(synth::Psf::disc(4.0), 10.0, 1.0, 3, 192);
+    const BlurEstimate far = measureBlur(img.view(), Rect{40, 30, INT_MAX, INT_MAX});
+    const BlurEstimate clipped = measureBlur(img.view(), Rect{40, 30, 152, 162});
+    REQUIRE(clipped.discDiameterPx.has_value());
+    CHECK(*clipped.discDiameterPx == Approx(4.0).epsilon(0.05));
+    REQUIRE(far.discDiameterPx.has_value());
+    CHECK(*far.discDiameterPx == *clipped.discDiameterPx);
+    // Starting past the image: nothing to measure.
+    CHECK_FALSE(measureBlur(img.view(), Rect{INT_MAX - 5, 0, INT_MAX, 10}).discDiameterPx);
+    CHECK_FALSE(measureBlur(img.view(), Rect{INT_MIN, INT_MIN, INT_MAX, INT_MAX}).discDiameterPx);
 }
 
 TEST_CASE("the AVX2 blur kernels equal the reference implementation", "[blur][simd]") {

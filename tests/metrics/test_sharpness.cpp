@@ -2,6 +2,7 @@
 // Focus measure operators: monotonic in blur, independent of resolution and region size,
 // invariant to gain, vectorised kernel equal to the reference one, and right on real focus stacks.
 #include <catch2/catch.hpp>
+#include <climits>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -102,6 +103,21 @@ TEST_CASE("operator names parse and unknown names are usage errors", "[sharpness
     REQUIRE_FALSE(bad.ok());
     CHECK(bad.error().kind == ErrorKind::Usage);
     CHECK(bad.error().message.find("lapv") != std::string::npos);
+}
+
+TEST_CASE("a region reaching past INT_MAX is clipped to the image, not wrapped", "[sharpness]") {
+    // x + w of such a rectangle overflowed and the region came out empty (or worse).
+    const cv::Mat img = checkerboard(320, 240, 12);
+    const Luma8 v = view(img);
+    for (FocusOperator op : allOperators()) {
+        INFO(operatorName(op));
+        SharpnessParams p;
+        p.op = op;
+        const double far = regionSharpness(v, Rect{100, 50, INT_MAX, INT_MAX}, p);
+        const double clipped = regionSharpness(v, Rect{100, 50, 220, 190}, p);
+        CHECK(clipped > 0.0);
+        CHECK(far == clipped);
+    }
 }
 
 TEST_CASE("grid regions tile the image exactly", "[sharpness]") {
