@@ -190,7 +190,8 @@ Command addAnalyzeCommand(CLI::App& app) {
         ->take_all();
     sub->add_option("--metric", args->metric,
                     "Focus operator: lapv, lapm, teng (default), tenv, brenner, glvn, dctr");
-    sub->add_option("--frames", args->frames, "Stop after N frames (default: all)");
+    sub->add_option("--frames", args->frames, "Stop after N frames (default: all)")
+        ->check(frameCount());
     sub->add_option("--format", args->format,
                     "jsonl (one object per frame), csv (one row per region) or table (for people)")
         ->capture_default_str();

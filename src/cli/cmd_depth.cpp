@@ -313,6 +313,7 @@ Command addDepthCommand(CLI::App& app) {
     sub->add_option("--grid", args->grid, "Regions as columns x rows (SOURCE input)")
         ->capture_default_str();
     sub->add_option("--frames", args->frames, "Frames to analyse (SOURCE input; 0: all)")
+        ->check(frameCount())
         ->capture_default_str();
     sub->add_flag("--json", args->json, "One JSON object per frame (JSONL)");
     sub->footer(

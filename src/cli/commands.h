@@ -34,6 +34,10 @@ int reportError(const std::string& command, const Error& error);
 /// Prints a usage error for @p command on stderr and returns kExitUsage.
 int usageError(const std::string& command, const std::string& message);
 
+/// Checks a --frames value: a whole number ≥ 0, read before it is converted to an unsigned
+/// count (where "-1" would wrap to 2^64 − 1 and never stop).
+CLI::Validator frameCount();
+
 // One entry point per command file (src/cli/cmd_NAME.cpp).
 Command addAnalyzeCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);

@@ -67,6 +67,8 @@ expect_usage "e.g. --grid 16x9" "$tmp/good" --grid 16by9
 expect_usage "lapv" "$tmp/good" --metric sharpest
 expect_usage "jsonl, csv or table" "$tmp/good" --format xml
 expect_usage "x,y,w,h" "$tmp/good" --roi 1,2,3
+# A negative frame count is refused, not wrapped to 2^64 − 1 (it ran without end on a camera).
+expect_usage "not a frame count" "$tmp/good" --frames -1
 # A region whose far edge passes INT_MAX: outside the frame, not wrapped around (it crashed).
 expect_usage "reaches outside the 2048x1536 frame" "$tmp/good" --roi 2147483640,0,100,100
 expect_usage "reaches outside the 2048x1536 frame" "$tmp/good" --roi 10,10,2147483640,100
