@@ -252,8 +252,12 @@ bool isJsonlFile(const std::string& input) {
 int runDepth(const DepthArgs& args) {
     auto values = args.lens.resolve();
     if (!values) return reportError(kName, values.error());
-    if (!(args.blurFloorPx >= 0.0))
-        return usageError(kName, "--blur-floor must be 0 or more pixels, e.g. --blur-floor 1.5");
+    if (!(args.blurFloorPx >= 0.0) || !std::isfinite(args.blurFloorPx))
+        return usageError(kName,
+                          "--blur-floor must be a finite 0 or more pixels, e.g. --blur-floor 1.5");
+    // (CLI::Range lets a NaN through: no comparison with it fails.)
+    if (std::isnan(args.minConfidence))
+        return usageError(kName, "--min-confidence must be a number from 0 to 1, e.g. 0.1");
     uint64_t frames = 0;
     const auto sink = [&](const FrameAnalysis& a) -> Status {
         ++frames;

@@ -135,6 +135,16 @@ TEST_CASE("usage errors exit 2 and say what to type", "[cli]") {
     r = run("depth x.jsonl --focal 25mm --fnumber 1.4 --focus 0.5 --pixel-pitch 3.45um");
     CHECK(r.status == 2);
     CHECK(has(r, "give a unit"));
+    // Values that no comparison refuses (inf, NaN) are refused by name.
+    r = run("depth sim: --frames 1 --lens rpi-cam3 --blur-floor inf");
+    CHECK(r.status == 2);
+    CHECK(has(r, "--blur-floor must be a finite 0 or more pixels"));
+    r = run("depth sim: --frames 1 --lens rpi-cam3 --min-confidence nan");
+    CHECK(r.status == 2);
+    CHECK(has(r, "--min-confidence must be a number from 0 to 1"));
+    r = run("depth sim: --lens rpi-cam3 --frames -1");
+    CHECK(r.status == 2);
+    CHECK(has(r, "not a frame count"));
 }
 
 TEST_CASE("depth on a blur map rendered from the lecture's model", "[cli]") {
