@@ -273,7 +273,7 @@ Kernels chooseKernels(const BlurOptions& o) {
 CandidateGrid candidateGrid(const Luma8& img, const Bounds& roi, const BlurOptions& o,
                             const Kernels& k) {
     CandidateGrid grid;
-    const int step = std::max(1, o.candidateStep);
+    const int step = o.candidateStep;  // ≥ 1 (sanitized)
     const int y0 = std::max(roi.y0, 1), y1 = std::min(roi.y1, img.height - 1);
     const int x0 = std::max(roi.x0, 1), x1 = std::min(roi.x1, img.width - 1);
     if (x0 >= x1 || y0 >= y1) return grid;
@@ -976,11 +976,11 @@ BlurOptions sanitized(const BlurOptions& given) {
     return o;
 }
 
-// measureEdges, asking the cache for the pixels of @p next meanwhile.
+// measureEdges with @p options already sanitized, asking the cache for the pixels of @p next
+// meanwhile.
 std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Rect& roi,
-                                                     const BlurOptions& given,
+                                                     const BlurOptions& options,
                                                      RowPrefetcher& next) {
-    const BlurOptions options = sanitized(given);
     std::vector<EdgeMeasurement> out;
     if (luma.empty() || luma.width < 3 || luma.height < 3) return out;
     const Bounds r = clipRect(roi, luma.width, luma.height);
@@ -989,7 +989,6 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     Bounds sb = options.sampleOutsideRoi ? Bounds{0, 0, luma.width, luma.height} : r;
     sb = {std::max(sb.x0, 1), std::max(sb.y0, 1), std::min(sb.x1, luma.width - 1),
           std::min(sb.y1, luma.height - 1)};
-    const int maxEdges = options.maxEdges;
     // Longer segments average more pixels per ESF bin (less noise) but must stay straight and
     // inside the region's scale: a quarter of the region's smaller side unless told.
     const double halfLength =
@@ -1025,8 +1024,8 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     const int extra = (r.x1 - r.x0) * (r.y1 - r.y0) / (128 * 128);
     bool haveUsable = false;
     for (size_t i = 0;; ++i) {
-        if (static_cast<int>(out.size()) >= maxEdges ||
-            attempts >= maxEdges + extra - (haveUsable ? 1 : 0))
+        if (static_cast<int>(out.size()) >= options.maxEdges ||
+            attempts >= options.maxEdges + extra - (haveUsable ? 1 : 0))
             break;
         if (i == cands.size()) {
             if (cands.size() < cap || !out.empty()) break;
@@ -1101,9 +1100,8 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     return out;
 }
 
-// The region's blur from its edges (measureBlur).
-BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const BlurOptions& given) {
-    const BlurOptions options = sanitized(given);
+// The region's blur from its edges (measureBlur), @p options already sanitized.
+BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const BlurOptions& options) {
     BlurEstimate est;
     std::vector<const EdgeMeasurement*> good;
     for (const EdgeMeasurement& e : edges)
@@ -1161,22 +1159,24 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
 std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
                                           const BlurOptions& options) {
     RowPrefetcher none;
-    return measureEdgesPrefetching(luma, roi, options, none);
+    return measureEdgesPrefetching(luma, roi, sanitized(options), none);
 }
 
 BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& options) {
-    return blurFromEdges(measureEdges(luma, roi, options), options);
+    const BlurOptions o = sanitized(options);
+    RowPrefetcher none;
+    return blurFromEdges(measureEdgesPrefetching(luma, roi, o, none), o);
 }
 
 std::vector<BlurEstimate> measureBlurRegions(const Luma8& luma, std::span<const Rect> rois,
                                              const BlurOptions& options) {
+    const BlurOptions o = sanitized(options);
     std::vector<BlurEstimate> out;
     out.reserve(rois.size());
     for (size_t i = 0; i < rois.size(); ++i) {
         RowPrefetcher next =
             i + 1 < rois.size() ? RowPrefetcher(luma, rois[i + 1]) : RowPrefetcher();
-        out.push_back(
-            blurFromEdges(measureEdgesPrefetching(luma, rois[i], options, next), options));
+        out.push_back(blurFromEdges(measureEdgesPrefetching(luma, rois[i], o, next), o));
         next.finish();
     }
     return out;
