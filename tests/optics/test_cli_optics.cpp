@@ -109,42 +109,29 @@ TEST_CASE("dof presets, pixels and the inverse problem", "[cli]") {
 }
 
 TEST_CASE("usage errors exit 2 and say what to type", "[cli]") {
-    auto r = run("dof --focal 50 --fnumber 8 --focus 10m");
-    CHECK(r.status == 2);
-    CHECK(has(r, "--focal 50: give a unit, e.g. --focal 50mm"));
-    r = run("dof --focal 50mm --fnumber 0 --focus 10m");
-    CHECK(r.status == 2);
-    CHECK(has(r, "f-number must be positive"));
-    r = run("dof --focal 0mm --fnumber 8 --focus 10m");
-    CHECK(r.status == 2);
-    CHECK(has(r, "focal length must be positive"));
-    r = run("dof --focal 50mm --fnumber 8 --focus 40mm");
-    CHECK(r.status == 2);
-    CHECK(has(r, "inside the focal length"));
-    r = run("dof --focal 50mm --fnumber 8 --focus 10");
-    CHECK(r.status == 2);
-    CHECK(has(r, "--focus 10: give a unit, e.g. --focus 10m"));
-    r = run("dof --focal 50mm --fnumber 8");
-    CHECK(r.status == 2);
-    CHECK(has(r, "give the focus distance"));
-    r = run("dof --focal 50mm --fnumber 8 --focus 10m --coc 0.03mm --sensor m43");
-    CHECK(r.status == 2);
-    r = run("dof --focal 50mm --fnumber 8 --focus 10m --sensor potato");
-    CHECK(r.status == 2);
-    CHECK(has(r, "unknown sensor"));
-    r = run("depth x.jsonl --focal 25mm --fnumber 1.4 --focus 0.5 --pixel-pitch 3.45um");
-    CHECK(r.status == 2);
-    CHECK(has(r, "give a unit"));
+    // Each command must exit 2 and print the text after it.
+    const auto usage = [](const std::string& command, const std::string& text) {
+        INFO(command);
+        const Run r = run(command);
+        CHECK(r.status == 2);
+        CHECK(has(r, text));
+    };
+    usage("dof --focal 50 --fnumber 8 --focus 10m", "--focal 50: give a unit, e.g. --focal 50mm");
+    usage("dof --focal 50mm --fnumber 0 --focus 10m", "f-number must be positive");
+    usage("dof --focal 0mm --fnumber 8 --focus 10m", "focal length must be positive");
+    usage("dof --focal 50mm --fnumber 8 --focus 40mm", "inside the focal length");
+    usage("dof --focal 50mm --fnumber 8 --focus 10", "--focus 10: give a unit, e.g. --focus 10m");
+    usage("dof --focal 50mm --fnumber 8", "give the focus distance");
+    CHECK(run("dof --focal 50mm --fnumber 8 --focus 10m --coc 0.03mm --sensor m43").status == 2);
+    usage("dof --focal 50mm --fnumber 8 --focus 10m --sensor potato", "unknown sensor");
+    usage("depth x.jsonl --focal 25mm --fnumber 1.4 --focus 0.5 --pixel-pitch 3.45um",
+          "give a unit");
     // Values that no comparison refuses (inf, NaN) are refused by name.
-    r = run("depth sim: --frames 1 --lens rpi-cam3 --blur-floor inf");
-    CHECK(r.status == 2);
-    CHECK(has(r, "--blur-floor must be a finite 0 or more pixels"));
-    r = run("depth sim: --frames 1 --lens rpi-cam3 --min-confidence nan");
-    CHECK(r.status == 2);
-    CHECK(has(r, "--min-confidence must be a number from 0 to 1"));
-    r = run("depth sim: --lens rpi-cam3 --frames -1");
-    CHECK(r.status == 2);
-    CHECK(has(r, "not a frame count"));
+    usage("depth sim: --frames 1 --lens rpi-cam3 --blur-floor inf",
+          "--blur-floor must be a finite 0 or more pixels");
+    usage("depth sim: --frames 1 --lens rpi-cam3 --min-confidence nan",
+          "--min-confidence must be a number from 0 to 1");
+    usage("depth sim: --lens rpi-cam3 --frames -1", "not a frame count");
 }
 
 TEST_CASE("depth on a blur map rendered from the lecture's model", "[cli]") {
