@@ -3,6 +3,7 @@
 /// Single-channel images (luma) shared by the metrics, blur and synthesis code.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -35,6 +36,18 @@ struct Rect {
     int h = 0;
     bool operator==(const Rect&) const = default;
 };
+
+/// The part of @p r inside @p area: origin max(r, area) per axis, size the overlap (0 when they
+/// do not meet). The far edges are added in 64 bits, so a rectangle reaching past INT_MAX (a
+/// caller's arithmetic, a command line) clips instead of wrapping around.
+inline Rect intersect(const Rect& r, const Rect& area) {
+    const auto overlap = [](int a0, int aw, int b0, int bw) {
+        const int64_t end = std::min(static_cast<int64_t>(a0) + aw, static_cast<int64_t>(b0) + bw);
+        return static_cast<int>(std::max<int64_t>(0, end - std::max(a0, b0)));
+    };
+    return {std::max(r.x, area.x), std::max(r.y, area.y), overlap(r.x, r.w, area.x, area.w),
+            overlap(r.y, r.h, area.y, area.h)};
+}
 
 /// 8-bit luma, 0..255.
 using Luma8 = ImageView<uint8_t>;

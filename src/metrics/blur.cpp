@@ -895,13 +895,10 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
     return std::nullopt;
 }
 
-// The part of @p r inside a @p w × @p h image. Its far edge is added in 64 bits: a rectangle
-// near INT_MAX (a caller's arithmetic, a command line) must clip, not wrap around.
+// The part of @p r inside a @p w × @p h image (intersect: a rectangle near INT_MAX clips).
 Bounds clipRect(const Rect& r, int w, int h) {
-    const auto edge = [](int a, int b, int size) {
-        return static_cast<int>(std::clamp<int64_t>(static_cast<int64_t>(a) + b, 0, size));
-    };
-    return {std::clamp(r.x, 0, w), std::clamp(r.y, 0, h), edge(r.x, r.w, w), edge(r.y, r.h, h)};
+    const Rect c = intersect(r, {0, 0, w, h});
+    return {c.x, c.y, c.x + c.w, c.y + c.h};
 }
 
 // Asks the cache for the pixels the candidate pass of the next region will read, a few rows at

@@ -26,14 +26,9 @@ int margin(FocusOperator op) {
     return op == FocusOperator::Brenner ? 2 : 1;
 }
 
-// The valid pixels of a region: inside the image less the operator's margin. The far edges are
-// added in 64 bits, so that a rectangle near INT_MAX clips instead of wrapping around.
+// The valid pixels of a region: inside the image less the operator's margin.
 Rect validArea(const Luma8& img, const Rect& r, int m) {
-    const int x0 = std::max(r.x, m), y0 = std::max(r.y, m);
-    const auto x1 = std::min<int64_t>(static_cast<int64_t>(r.x) + r.w, img.width - m);
-    const auto y1 = std::min<int64_t>(static_cast<int64_t>(r.y) + r.h, img.height - m);
-    return {x0, y0, static_cast<int>(std::max<int64_t>(0, x1 - x0)),
-            static_cast<int>(std::max<int64_t>(0, y1 - y0))};
+    return intersect(r, {m, m, img.width - 2 * m, img.height - 2 * m});
 }
 
 double scaleOf(const Luma8& img) {
