@@ -185,6 +185,11 @@ constexpr double kGaussianRisePerSigma = 2.5631;
 constexpr double kClipLow = 3.0, kClipHigh = 252.0;
 // Segment lengths tried per seed (halved from the longest down to 6 px: 48 → 6 is 4).
 constexpr int kMaxLengths = 8;
+// The straightness share e^(−bend²) of the quality (makeMeasurement) above which a segment
+// length counts as straight: a longer length is measured only while its bend costs it less than
+// half its quality. The bend widens the ESF (the edge's wander across the segment adds to its
+// spread), and a longer segment of a curved edge spends more pixels to measure it wider.
+constexpr double kStraightShare = 0.5;
 // Half-width of the window in which the reported line-spread variance is taken, in its σ, and the
 // contrast-to-spread ratio above which the spread beside an edge counts as noise (fitEsf).
 constexpr double kMomentSigmas = 3.0, kCleanCnr = 20.0;
@@ -1051,8 +1056,8 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
         // Long segments average more pixels; curved or crowded edges (texture) only stay straight
         // and clean over a short one. Lengths are judged shortest first: a longer one only while
         // the shorter is straight, since an edge that bends over a short segment bends more over
-        // a long one. The longest straight one is measured, then, while none rates above 0.3, the
-        // next shorter ones (three tries in all).
+        // a long one (straight: kStraightShare). The longest straight one is measured, then,
+        // while none rates above 0.3, the next shorter ones (three tries in all).
         LineFit fits[kMaxLengths];
         double share[kMaxLengths] = {};
         int longest = -1, bestShare = -1;
@@ -1064,7 +1069,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
             const double bend = fits[j].straight / (0.3 + 0.25 * sd);
             share[j] = std::exp(-bend * bend);
             if (bestShare < 0 || share[j] > share[bestShare]) bestShare = j;
-            if (share[j] <= 0.3) break;
+            if (share[j] <= kStraightShare) break;
             longest = j;
         }
         std::optional<EdgeMeasurement> best;
@@ -1072,7 +1077,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
         int tries = 0;
         const int from = longest >= 0 ? longest : bestShare;
         for (int j = from; j >= 0 && j < nLengths && tries < 3; ++j) {
-            if (!fits[j].ok || (longest >= 0 && share[j] <= 0.3)) continue;
+            if (!fits[j].ok || (longest >= 0 && share[j] <= kStraightShare)) continue;
             ++tries;
             Patch p = seed;
             p.hl = lengths[j];
