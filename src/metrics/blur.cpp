@@ -185,7 +185,7 @@ constexpr double kGaussianRisePerSigma = 2.5631;
 constexpr double kClipLow = 3.0, kClipHigh = 252.0;
 // Segment lengths tried per seed (halved from the longest down to 6 px: 48 → 6 is 4).
 constexpr int kMaxLengths = 8;
-// The straightness share e^(−bend²) of the quality (makeMeasurement) above which a segment
+// The straightness share e^(−bend²) of the quality (relativeBend) above which a segment
 // length counts as straight: a longer length is measured only while its bend costs it less than
 // half its quality. The bend widens the ESF (the edge's wander across the segment adds to its
 // spread), and a longer segment of a curved edge spends more pixels to measure it wider.
@@ -789,6 +789,13 @@ constexpr double kProbeHalfWidthPx = 6.0;
 constexpr double kShortestHalfLengthPx = 6.0, kMaxHalfWidthPx = 1024.0;
 constexpr int kMaxEdgesPerRegion = 256, kMaxCandidateStep = 64;
 
+// An edge's bend in units of what its blur tolerates: its straightness (RMS scatter of the slice
+// centroids, px) over 0.3 px + a quarter of its σ (px). The quality's straightness share is
+// e^(−bend²), both for a measured edge and for judging a probe's segment lengths.
+double relativeBend(double straightPx, double sigmaPx) {
+    return straightPx / (0.3 + 0.25 * sigmaPx);
+}
+
 // The measurement of the edge on @p patch from its ESF fit @p f.
 EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, double straight,
                                 const BlurOptions& o) {
@@ -812,7 +819,7 @@ EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, double stra
     m.straightnessPx = straight;
     const double sd = std::sqrt(std::max(f.varLsf, kPixelVariance));
     const double cnr = f.contrast / std::max(f.noise, 0.5);
-    const double bend = straight / (0.3 + 0.25 * sd);
+    const double bend = relativeBend(straight, sd);
     const double over = f.overshoot / 0.25;
     m.quality = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend - over * over);
     return m;
@@ -1066,7 +1073,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
             fits[j] = fitLine(probe.data() + (slices - m) / 2, m);
             if (!fits[j].ok) continue;  // too few slices with an edge (a border): try longer
             const double sd = std::max(guessSigma(fits[j]), std::sqrt(kPixelVariance));
-            const double bend = fits[j].straight / (0.3 + 0.25 * sd);
+            const double bend = relativeBend(fits[j].straight, sd);
             share[j] = std::exp(-bend * bend);
             if (bestShare < 0 || share[j] > share[bestShare]) bestShare = j;
             if (share[j] <= kStraightShare) break;
