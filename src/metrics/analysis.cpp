@@ -71,9 +71,9 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
                                  " frame has pixels; use a coarser grid");
     } else {
         for (const Rect& r : o.rois) {
-            // In 64 bits: x + w of a rectangle given near INT_MAX must not wrap around.
-            if (static_cast<int64_t>(r.x) + r.w > img.width ||
-                static_cast<int64_t>(r.y) + r.h > img.height)
+            // x, y ≥ 0 and w, h > 0 (checked when the analyser is made): it fits where clipping
+            // leaves it whole (intersect adds in 64 bits: a far edge past INT_MAX does not wrap).
+            if (intersect(r, {0, 0, img.width, img.height}) != r)
                 return makeError(ErrorKind::Usage,
                                  "ROI " + std::to_string(r.x) + "," + std::to_string(r.y) + "," +
                                      std::to_string(r.w) + "," + std::to_string(r.h) +
