@@ -5,6 +5,7 @@
 /// steps), with the pixel's own area removed. docs/blur.md explains the method.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
@@ -56,6 +57,30 @@ BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& 
 /// does not make every region wait for memory: use it for a grid of regions.
 std::vector<BlurEstimate> measureBlurRegions(const Luma8& luma, std::span<const Rect> rois,
                                              const BlurOptions& options = {});
+
+/// measureBlurRegions over a stream of frames, at a bounded cost a frame. Each frame, a region's
+/// edges are measured again where they were found (their line fitted again only where that
+/// fails), and only @p searchesPerFrame regions search afresh: first any not searched for
+/// 2n / searchesPerFrame frames (of n regions), then those that lost an edge, then those
+/// searched longest ago, so that a new edge in focus is seen within about that many frames. On
+/// an unchanged frame it gives measureBlurRegions' results exactly. The first frame, a change of
+/// frame size or regions, and reset() search every region. Not thread-safe.
+class BlurTracker {
+public:
+    explicit BlurTracker(const BlurOptions& options = {}, int searchesPerFrame = 16);
+    ~BlurTracker();
+    BlurTracker(BlurTracker&&) noexcept;
+    BlurTracker& operator=(BlurTracker&&) noexcept;
+
+    /// The blur of each of @p rois in @p luma, in order (the next frame of the stream).
+    std::vector<BlurEstimate> measure(const Luma8& luma, std::span<const Rect> rois);
+    /// Forgets every region's edges: the next frame searches them all (a cut in the stream).
+    void reset();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 /// The measurement at one edge segment, for diagnostics and tests.
 struct EdgeMeasurement {

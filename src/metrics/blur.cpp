@@ -229,6 +229,16 @@ struct Patch {
     double t(double x, double y) const { return -(x - cx) * ny + (y - cy) * nx; }
 };
 
+// Where an edge was measured, kept from frame to frame by BlurTracker: the patch its ESF was
+// sampled in (on its fitted line), the line's straightness, the window the ESF fit's second
+// start began with (0: none; measureSegment), and the derivative threshold and slice count of
+// its geometry fit.
+struct EdgeTrack {
+    Patch patch;
+    double straight = 0.0, narrowStart = 0.0, threshold = 0.0;
+    int slices = 0;
+};
+
 // The pixel kernels: AVX2 when the CPU has it and the options allow, else the generic reference.
 struct Kernels {
     decltype(&detail::sobelGridRowGeneric) sobelGridRow;
@@ -853,7 +863,8 @@ bool usable(const EsfFit& f) {
 // where the edge was sampled.
 std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
                                               const BlurOptions& o, const Kernels& k, Patch& patch,
-                                              double threshold, LineFit line, int slices) {
+                                              double threshold, LineFit line, int slices,
+                                              EdgeTrack& track) {
     const double sd0 = guessSigma(line);
     patch.hw = std::clamp(4.5 * sd0 + 3.5, kProbeHalfWidthPx, o.maxHalfWidthPx);
     // The probe's slab (±kProbeHalfWidthPx about the seed) cut the derivative where the line,
@@ -886,12 +897,15 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
         // edge, it stands (near a chequerboard's corner the narrow start misses the corner's
         // clutter and reads the edge narrow). No pixel is read again. On the bench frame more
         // seeds give an edge, and 142 regions of 144 measure instead of 132 (docs/blur.md).
-        if (!usable(f) && pass == 0 && !cut) {
-            const EsfFit g =
-                fitEsf(bins, terms, patch.hw, o.minContrast, 4.0 * largestSigma(sd0) + 1.0);
+        const double narrowStart = pass == 0 && !cut ? 4.0 * largestSigma(sd0) + 1.0 : 0.0;
+        if (!usable(f) && narrowStart > 0.0) {
+            const EsfFit g = fitEsf(bins, terms, patch.hw, o.minContrast, narrowStart);
             if (usable(g)) f = g;
         }
-        if (usable(f)) return makeMeasurement(patch, f, line.straight, o);
+        if (usable(f)) {
+            track = {patch, line.straight, narrowStart, threshold, slices};
+            return makeMeasurement(patch, f, line.straight, o);
+        }
         if (f.ok) return std::nullopt;  // fitted, but clipped or collapsed: no wider patch helps
         if (!f.needWider || patch.hw >= o.maxHalfWidthPx) return std::nullopt;
         // A derivative held well inside the probe's slab, with a line spread that does not fit
@@ -985,43 +999,116 @@ BlurOptions sanitized(const BlurOptions& given) {
     return o;
 }
 
-// measureEdges with @p options already sanitized, asking the cache for the pixels of @p next
-// meanwhile.
-std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Rect& roi,
-                                                     const BlurOptions& options,
-                                                     RowPrefetcher& next) {
-    std::vector<EdgeMeasurement> out;
-    if (luma.empty() || luma.width < 3 || luma.height < 3) return out;
-    const Bounds r = clipRect(roi, luma.width, luma.height);
-    if (r.x1 - r.x0 < 3 || r.y1 - r.y0 < 3) return out;
+// What the seeds of one region share: the region, where sampling may reach, and the segment
+// lengths tried (halved from the longest down to 6 px), whose probe slices nest: the central
+// 4·2^j of them cover the j-th shortest length.
+struct RegionSetup {
+    Bounds r, sb;
+    double halfLength = 0.0;
+    double lengths[kMaxLengths] = {};
+    int nLengths = 0, slices = 0;
+};
+
+// The setup of region @p roi of @p luma, @p o sanitized; empty when the region or the image is
+// too small to hold a 3 × 3 gradient.
+std::optional<RegionSetup> regionSetup(const Luma8& luma, const Rect& roi, const BlurOptions& o) {
+    if (luma.empty() || luma.width < 3 || luma.height < 3) return std::nullopt;
+    RegionSetup s;
+    s.r = clipRect(roi, luma.width, luma.height);
+    if (s.r.x1 - s.r.x0 < 3 || s.r.y1 - s.r.y0 < 3) return std::nullopt;
     // Sampling stays one pixel inside the image: the derivative needs both neighbours.
-    Bounds sb = options.sampleOutsideRoi ? Bounds{0, 0, luma.width, luma.height} : r;
-    sb = {std::max(sb.x0, 1), std::max(sb.y0, 1), std::min(sb.x1, luma.width - 1),
-          std::min(sb.y1, luma.height - 1)};
+    const Bounds sb = o.sampleOutsideRoi ? Bounds{0, 0, luma.width, luma.height} : s.r;
+    s.sb = {std::max(sb.x0, 1), std::max(sb.y0, 1), std::min(sb.x1, luma.width - 1),
+            std::min(sb.y1, luma.height - 1)};
     // Longer segments average more pixels per ESF bin (less noise) but must stay straight and
     // inside the region's scale: a quarter of the region's smaller side unless told.
-    const double halfLength =
-        options.edgeHalfLengthPx > 0
-            ? options.edgeHalfLengthPx
-            : std::clamp(0.25 * std::min(r.x1 - r.x0, r.y1 - r.y0), 8.0, 48.0);
+    s.halfLength = o.edgeHalfLengthPx > 0
+                       ? o.edgeHalfLengthPx
+                       : std::clamp(0.25 * std::min(s.r.x1 - s.r.x0, s.r.y1 - s.r.y0), 8.0, 48.0);
+    for (double len = s.halfLength; len >= kShortestHalfLengthPx && s.nLengths < kMaxLengths;
+         len *= 0.5)
+        s.lengths[s.nLengths++] = len;
+    s.slices = 4 << (s.nLengths - 1);
+    return s;
+}
+
+// The edge at seed @p c of a region set up as @p s: the best of its segment lengths, or none.
+// @p covered is set to the patch along the seed's edge (over the full length), so that later
+// seeds on the same edge are skipped, measured or not, and @p track to where the edge was
+// measured.
+std::optional<EdgeMeasurement> measureSeed(const Luma8& luma, const RegionSetup& s,
+                                           const BlurOptions& o, const Kernels& k,
+                                           const Candidate& c, Patch& covered, EdgeTrack& track) {
+    thread_local std::vector<Slice> probe;
+    probe.resize(s.slices);
+    // One probe along the longest segment in a narrow slab about the seed's gradient: the
+    // slices' derivative centroids give every length's line and straightness at once.
+    const double g = std::sqrt(c.mag2);
+    const double threshold = 0.2 * g;
+    const Patch seed{c.x + 0.5, c.y + 0.5, c.gx / g, c.gy / g, kProbeHalfWidthPx, s.halfLength};
+    geometrySlices(luma, s.sb, k, seed, threshold, s.slices, probe.data());
+    // Long segments average more pixels; curved or crowded edges (texture) only stay straight
+    // and clean over a short one. Lengths are judged shortest first: a longer one only while
+    // the shorter is straight, since an edge that bends over a short segment bends more over
+    // a long one (straight: kStraightShare). The longest straight one is measured, then,
+    // while none rates above 0.3, the next shorter ones (three tries in all).
+    LineFit fits[kMaxLengths];
+    double share[kMaxLengths] = {};
+    int longest = -1, bestShare = -1;
+    for (int j = s.nLengths - 1; j >= 0; --j) {
+        const int m = s.slices >> j;
+        fits[j] = fitLine(probe.data() + (s.slices - m) / 2, m);
+        if (!fits[j].ok) continue;  // too few slices with an edge (a border): try longer
+        const double sd = std::max(guessSigma(fits[j]), std::sqrt(kPixelVariance));
+        const double bend = relativeBend(fits[j].straight, sd);
+        share[j] = std::exp(-bend * bend);
+        if (bestShare < 0 || share[j] > share[bestShare]) bestShare = j;
+        if (share[j] <= kStraightShare) break;
+        longest = j;
+    }
+    std::optional<EdgeMeasurement> best;
+    covered = seed;
+    int tries = 0;
+    const int from = longest >= 0 ? longest : bestShare;
+    for (int j = from; j >= 0 && j < s.nLengths && tries < 3; ++j) {
+        if (!fits[j].ok || (longest >= 0 && share[j] <= kStraightShare)) continue;
+        ++tries;
+        Patch p = seed;
+        p.hl = s.lengths[j];
+        moveOnto(p, fits[j]);
+        EdgeTrack t;
+        const auto m = measureSegment(luma, s.sb, o, k, p, threshold, fits[j], s.slices >> j, t);
+        if (tries == 1) covered = p;
+        if (m && (!best || m->quality > best->quality)) {
+            best = m;
+            covered = p;
+            track = t;
+        }
+        if (best && best->quality > 0.3) break;
+    }
+    covered.hl = s.halfLength;
+    return best;
+}
+
+// measureEdges with @p options already sanitized, asking the cache for the pixels of @p next
+// meanwhile. When @p found is given, where each edge was measured is added to it, in the edges'
+// order (BlurTracker measures them there again on later frames).
+std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Rect& roi,
+                                                     const BlurOptions& options,
+                                                     RowPrefetcher& next,
+                                                     std::vector<EdgeTrack>* found = nullptr) {
+    std::vector<EdgeMeasurement> out;
+    const std::optional<RegionSetup> setup = regionSetup(luma, roi, options);
+    if (!setup) return out;
+    const RegionSetup& s = *setup;
     const Kernels kernels = chooseKernels(options);
     // The 64 strongest candidates first. A region without an edge yet whose candidates were all
     // passed over or covered (crossed by many lines stronger than its edges: traces, wires, text)
     // lists the next, weaker ones, four times as many each time. Equal gradients keep their scan
     // order, so a longer list starts with the shorter one.
     size_t cap = 64;
-    const CandidateGrid grid = candidateGrid(luma, r, options, kernels);
+    const CandidateGrid grid = candidateGrid(luma, s.r, options, kernels);
     CandidateList cands = strongestCandidates(grid, kernels, cap);
-    // Segment lengths, halved from the longest down to 6 px, share one probe: its slices along
-    // the edge nest, the central 4·2^j of them covering the j-th shortest length.
-    double lengths[kMaxLengths];
-    int nLengths = 0;
-    for (double len = halfLength; len >= kShortestHalfLengthPx && nLengths < kMaxLengths;
-         len *= 0.5)
-        lengths[nLengths++] = len;
-    const int slices = 4 << (nLengths - 1);
-    thread_local std::vector<Slice> probe;
-    probe.resize(slices);
     std::vector<Patch> used;
     int attempts = 0;
     // A seed that passes oneSided usually gives an edge: a region gets maxEdges attempts, and one
@@ -1030,7 +1117,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     // there it finds the region's first edge, where elsewhere it would only add one more to the
     // average. Since the ESF fit's second start (measureSegment) more seeds give an edge, and the
     // rule takes a sixth of a frame's instructions without losing a region (docs/blur.md).
-    const int extra = (r.x1 - r.x0) * (r.y1 - r.y0) / (128 * 128);
+    const int extra = (s.r.x1 - s.r.x0) * (s.r.y1 - s.r.y0) / (128 * 128);
     bool haveUsable = false;
     for (size_t i = 0;; ++i) {
         if (static_cast<int>(out.size()) >= options.maxEdges ||
@@ -1054,59 +1141,62 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
         // test reads 81 grid points where a measurement walks a thousand pixels twice.
         if (oneSided(grid, c, kernels) < kMinOneSided) continue;
         ++attempts;
-        // One probe along the longest segment in a narrow slab about the seed's gradient: the
-        // slices' derivative centroids give every length's line and straightness at once.
-        const double g = std::sqrt(c.mag2);
-        const double threshold = 0.2 * g;
-        const Patch seed{c.x + 0.5, c.y + 0.5, c.gx / g, c.gy / g, kProbeHalfWidthPx, halfLength};
-        geometrySlices(luma, sb, kernels, seed, threshold, slices, probe.data());
-        // Long segments average more pixels; curved or crowded edges (texture) only stay straight
-        // and clean over a short one. Lengths are judged shortest first: a longer one only while
-        // the shorter is straight, since an edge that bends over a short segment bends more over
-        // a long one (straight: kStraightShare). The longest straight one is measured, then,
-        // while none rates above 0.3, the next shorter ones (three tries in all).
-        LineFit fits[kMaxLengths];
-        double share[kMaxLengths] = {};
-        int longest = -1, bestShare = -1;
-        for (int j = nLengths - 1; j >= 0; --j) {
-            const int m = slices >> j;
-            fits[j] = fitLine(probe.data() + (slices - m) / 2, m);
-            if (!fits[j].ok) continue;  // too few slices with an edge (a border): try longer
-            const double sd = std::max(guessSigma(fits[j]), std::sqrt(kPixelVariance));
-            const double bend = relativeBend(fits[j].straight, sd);
-            share[j] = std::exp(-bend * bend);
-            if (bestShare < 0 || share[j] > share[bestShare]) bestShare = j;
-            if (share[j] <= kStraightShare) break;
-            longest = j;
-        }
-        std::optional<EdgeMeasurement> best;
-        Patch bestPatch = seed;
-        int tries = 0;
-        const int from = longest >= 0 ? longest : bestShare;
-        for (int j = from; j >= 0 && j < nLengths && tries < 3; ++j) {
-            if (!fits[j].ok || (longest >= 0 && share[j] <= kStraightShare)) continue;
-            ++tries;
-            Patch p = seed;
-            p.hl = lengths[j];
-            moveOnto(p, fits[j]);
-            const auto m =
-                measureSegment(luma, sb, options, kernels, p, threshold, fits[j], slices >> j);
-            if (tries == 1) bestPatch = p;
-            if (m && (!best || m->quality > best->quality)) {
-                best = m;
-                bestPatch = p;
-            }
-            if (best && best->quality > 0.3) break;
-        }
-        // Seeds on this edge are skipped later over the full length, measured or not.
-        bestPatch.hl = halfLength;
-        used.push_back(bestPatch);
+        Patch edge{};
+        EdgeTrack track;
+        const std::optional<EdgeMeasurement> best =
+            measureSeed(luma, s, options, kernels, c, edge, track);
+        used.push_back(edge);
         if (best) {
             out.push_back(*best);
+            if (found) found->push_back(track);
             haveUsable = haveUsable || best->quality > kUsableQuality;
         }
     }
     return out;
+}
+
+// The edge of @p track measured again in @p luma (BlurTracker): its ESF sampled in the same
+// patch, on the same line, and fitted as measureSegment fitted it there, so that an unchanged
+// frame gives the same measurement. The probe and the segment lengths that found the edge are
+// not repeated: on photographs they and the failed tries take most of an edge's pixel work.
+// Where that fit gives no usable edge, the edge may have moved (focus breathing, a camera that
+// shifts): its line is fitted again in the patch's slab, as measureSegment refits it, and the
+// edge measured there, widened as measureSegment widens it while its line spread does not fit.
+// Empty when it gives no usable edge then either.
+std::optional<EdgeMeasurement> remeasureEdge(const Luma8& luma, const Bounds& sb,
+                                             const BlurOptions& o, const Kernels& k,
+                                             EdgeTrack& track) {
+    thread_local BinList bins;
+    thread_local PairTerms terms;
+    thread_local std::vector<Slice> sl;
+    Patch& patch = track.patch;
+    bool refit = false, refitted = false;
+    for (int pass = 0; pass < 6; ++pass) {
+        if (refit) {
+            sl.resize(track.slices);
+            geometrySlices(luma, sb, k, patch, track.threshold, track.slices, sl.data());
+            const LineFit line = fitLine(sl.data(), track.slices);
+            if (!line.ok) return std::nullopt;
+            moveOnto(patch, line);
+            track.straight = line.straight;
+            refitted = true;
+        }
+        sampleEsf(luma, sb, k, patch, o.binPx, bins);
+        if (bins.size >= kMinEsfBins) terms.set(bins, k);
+        EsfFit f = fitEsf(bins, terms, patch.hw, o.minContrast);
+        if (!usable(f) && track.narrowStart > 0.0) {
+            const EsfFit g = fitEsf(bins, terms, patch.hw, o.minContrast, track.narrowStart);
+            if (usable(g)) f = g;
+        }
+        if (usable(f)) return makeMeasurement(patch, f, track.straight, o);
+        refit = true;
+        if (!refitted) continue;
+        if (f.ok || !f.needWider || patch.hw >= o.maxHalfWidthPx) return std::nullopt;
+        const double sd = std::sqrt(std::max(f.varLsf, 0.1));
+        patch.hw = std::min(o.maxHalfWidthPx, std::max(1.6 * patch.hw, 4.0 * sd + 4.0));
+        track.narrowStart = 0.0;
+    }
+    return std::nullopt;
 }
 
 // The region's blur from its edges (measureBlur), @p options already sanitized.
@@ -1188,6 +1278,103 @@ std::vector<BlurEstimate> measureBlurRegions(const Luma8& luma, std::span<const 
         out.push_back(blurFromEdges(measureEdgesPrefetching(luma, rois[i], o, next), o));
         next.finish();
     }
+    return out;
+}
+
+// What the tracker keeps of one region: where its edges were measured when it was last searched
+// (those still found since), and whether it waits for a search.
+struct BlurTracker::Impl {
+    struct Region {
+        std::vector<EdgeTrack> edges;
+        bool due = true;        // lost an edge since its last search
+        uint64_t searched = 0;  // the frame of its last search
+    };
+    BlurOptions options;
+    int searchesPerFrame = 0;
+    int width = 0, height = 0;
+    std::vector<Rect> rois;
+    std::vector<Region> regions;
+    uint64_t frame = 0;  // frames measured since the last full search
+};
+
+BlurTracker::BlurTracker(const BlurOptions& options, int searchesPerFrame)
+    : impl_(std::make_unique<Impl>()) {
+    impl_->options = sanitized(options);
+    impl_->searchesPerFrame = std::max(searchesPerFrame, 1);
+}
+
+BlurTracker::~BlurTracker() = default;
+BlurTracker::BlurTracker(BlurTracker&&) noexcept = default;
+BlurTracker& BlurTracker::operator=(BlurTracker&&) noexcept = default;
+
+void BlurTracker::reset() {
+    impl_->rois.clear();
+    impl_->regions.clear();
+}
+
+std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<const Rect> rois) {
+    Impl& t = *impl_;
+    const bool same = luma.width == t.width && luma.height == t.height &&
+                      std::equal(rois.begin(), rois.end(), t.rois.begin(), t.rois.end());
+    const size_t n = rois.size();
+    if (!same) {
+        t.width = luma.width, t.height = luma.height;
+        t.rois.assign(rois.begin(), rois.end());
+        t.regions.assign(n, {});
+        t.frame = 0;
+    }
+    // This frame's searches: every region on the first frame. Then searchesPerFrame of them:
+    // first the regions not searched for 2n / searchesPerFrame frames, then those that lost an
+    // edge, then those searched longest ago, oldest first within each. A frame's cost stays
+    // bounded while the scene changes, lost edges are looked for again at once, and no region
+    // goes unsearched for long (a sharper edge may have come into focus there).
+    std::vector<char> search(n, !same);
+    if (same) {
+        std::vector<size_t> order(n);
+        for (size_t i = 0; i < n; ++i)
+            order[i] = i;
+        // Oldest search first; equal ages in region order, so that the round is deterministic.
+        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+            return t.regions[a].searched < t.regions[b].searched;
+        });
+        const auto budget = static_cast<size_t>(t.searchesPerFrame);
+        const uint64_t overdue = 2 * n / budget;
+        size_t chosen = 0;
+        const auto choose = [&](auto&& wanted) {
+            for (const size_t i : order)
+                if (chosen < budget && !search[i] && wanted(t.regions[i])) search[i] = 1, ++chosen;
+        };
+        choose([&](const Impl::Region& r) { return t.frame - r.searched >= overdue; });
+        choose([](const Impl::Region& r) { return r.due; });
+        choose([](const Impl::Region&) { return true; });
+    }
+    std::vector<BlurEstimate> out;
+    out.reserve(n);
+    for (size_t i = 0; i < n; ++i) {
+        Impl::Region& r = t.regions[i];
+        std::vector<EdgeMeasurement> edges;
+        if (search[i]) {
+            RowPrefetcher next =
+                i + 1 < n && search[i + 1] ? RowPrefetcher(luma, rois[i + 1]) : RowPrefetcher();
+            r.edges.clear();
+            edges = measureEdgesPrefetching(luma, rois[i], t.options, next, &r.edges);
+            next.finish();
+            r.due = false;
+            r.searched = t.frame;
+        } else if (const auto setup = regionSetup(luma, rois[i], t.options)) {
+            const Kernels kernels = chooseKernels(t.options);
+            size_t kept = 0;
+            for (EdgeTrack& e : r.edges)
+                if (const auto m = remeasureEdge(luma, setup->sb, t.options, kernels, e)) {
+                    edges.push_back(*m);
+                    r.edges[kept++] = e;
+                }
+            r.due = kept < r.edges.size();
+            r.edges.resize(kept);
+        }
+        out.push_back(blurFromEdges(edges, t.options));
+    }
+    ++t.frame;
     return out;
 }
 
