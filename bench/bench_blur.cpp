@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Blur width for every region of a 16×9 grid on a realistic 1080p frame.
+#include <cmath>
 #include <cstdio>
 
 #include "bench/bench.h"
@@ -10,15 +11,75 @@ namespace infocus::bench {
 
 namespace {
 
-// Natural-like texture (dead leaves) with a few slanted squares, defocused by a disc of
-// @p discPx, 8-bit with 1 grey level of noise: the kind of frame a focus assistant sees.
-Image<uint8_t> makeFrame(int w, int h, double discPx) {
+// Natural-like texture (dead leaves) with a few slanted squares: the kind of scene a focus
+// assistant sees.
+synth::SharpCanvas makeScene(int w, int h) {
     synth::SharpCanvas canvas = synth::makeCanvas(w, h, 2);
     synth::paintDeadLeaves(canvas, 2024, 4.0, 120.0);
     for (int i = 0; i < 12; ++i)
         synth::paint(canvas, synth::squareScene(160.0 + 140.0 * i, 200.0 + 60.0 * (i % 5), 90.0,
                                                 5.0 + 7.0 * i, i % 2 ? 30.0f : 220.0f));
-    return synth::toLuma8(synth::renderSharp(canvas, {synth::Psf::disc(discPx), 2, 1.0, 7}).pixels);
+    return canvas;
+}
+
+// The scene defocused by a disc of @p discPx, 8-bit with 1 grey level of noise (seed @p seed).
+Image<uint8_t> makeFrame(const synth::SharpCanvas& scene, double discPx, uint64_t seed = 7) {
+    return synth::toLuma8(
+        synth::renderSharp(scene, {synth::Psf::disc(discPx), 2, 1.0, seed}).pixels);
+}
+
+// Regions measured, and regions within 10 % of the true disc @p discPx, in @p blur.
+void count(const std::vector<BlurEstimate>& blur, double discPx, long& measured, long& near) {
+    for (const BlurEstimate& b : blur)
+        if (b.discDiameterPx) {
+            ++measured;
+            near += std::abs(*b.discDiameterPx - discPx) <= 0.1 * discPx;
+        }
+}
+
+// A stream through BlurTracker: a focus pull over the scene, the disc growing from 4 to 12 px and
+// back by 1 px a frame (a fast pull: the whole range in half a second at 30 frames a second),
+// each frame with its own noise. The baseline searches every region of every frame, as
+// measureBlurRegions does on a single frame.
+void benchBlurStream(const BenchOptions& options, const RowSink& sink,
+                     const synth::SharpCanvas& scene, const std::vector<Rect>& regions) {
+    std::vector<Image<uint8_t>> frames;
+    std::vector<double> discs;
+    for (int d = 4; d <= 12; ++d)
+        frames.push_back(makeFrame(scene, d, 100 + d)), discs.push_back(d);
+    std::vector<size_t> pull;  // 4 … 12 … 5, then again
+    for (size_t i = 0; i < frames.size(); ++i)
+        pull.push_back(i);
+    for (size_t i = frames.size() - 2; i > 0; --i)
+        pull.push_back(i);
+    BlurTracker tracker;
+    size_t next = 0, nextBase = 0;
+    long frames1 = 0, measured = 0, near = 0, framesBase = 0, measuredBase = 0, nearBase = 0;
+    // medianMs's warm-up call is the stream's first frame, a full search: the rows time the
+    // frames after it.
+    const double ms = medianMs(
+        [&] {
+            const size_t f = pull[next++ % pull.size()];
+            count(tracker.measure(frames[f].view(), regions), discs[f], measured, near);
+            ++frames1;
+        },
+        options.secondsPerCase);
+    const double baseMs = medianMs(
+        [&] {
+            const size_t f = pull[nextBase++ % pull.size()];
+            count(measureBlurRegions(frames[f].view(), regions), discs[f], measuredBase, nearBase);
+            ++framesBase;
+        },
+        options.secondsPerCase);
+    char note[256];
+    std::snprintf(note, sizeof note,
+                  "16x9 regions, one thread, BlurTracker (16 searches a frame) through a focus "
+                  "pull (disc 4-12-4 px, 1 px a frame); a frame: %.1f regions with an edge, %.1f "
+                  "within 10 %% of the true disc (searching every frame: %.1f, %.1f)",
+                  double(measured) / frames1, double(near) / frames1,
+                  double(measuredBase) / framesBase, double(nearBase) / framesBase);
+    sink(BenchRow{"blur_stream", 1920, 1080, ms, baseMs,
+                  "measureBlurRegions on every frame (every region searched)", note});
 }
 
 }  // namespace
@@ -32,8 +93,9 @@ void benchBlur(const BenchOptions& options, const RowSink& sink) {
                                    (r + 1) * h / rows - r * h / rows});
     // The engine samples each edge over about ±4.5 σ of its blur, so its time grows with the
     // blur: a frame near focus (a 4 px disc) and one well out of focus (12 px).
+    const synth::SharpCanvas scene = makeScene(w, h);
     for (const double discPx : {4.0, 12.0}) {
-        const Image<uint8_t> frame = makeFrame(w, h, discPx);
+        const Image<uint8_t> frame = makeFrame(scene, discPx);
         const Luma8 view = frame.view();
         // The baseline is the same engine with its scalar reference kernels (the same sums, bit
         // for bit): what the hand-written AVX2 kernels buy. No off-the-shelf library measures an
@@ -70,6 +132,7 @@ void benchBlur(const BenchOptions& options, const RowSink& sink) {
         row.frameBlurPx = discPx;
         sink(row);
     }
+    benchBlurStream(options, sink, scene, regions);
 }
 
 }  // namespace infocus::bench

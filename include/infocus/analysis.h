@@ -51,6 +51,10 @@ struct AnalysisOptions {
     std::string metric;           ///< sharpness operator name; empty: the default operator
     bool measureBlur = true;      ///< also fill the blur fields (edge width, σ, disc diameter)
     bool centreWeighted = false;  ///< FrameAnalysis::frameSharpness weights the centre more
+    /// 0: every region's edges searched afresh on every frame (measureBlurRegions). n > 0: the
+    /// stream's edges measured again where they were found and n regions a frame searched
+    /// afresh (BlurTracker): a bounded cost a frame for live cameras.
+    int blurSearchesPerFrame = 0;
 };
 
 /// Analyses frames one after another, reusing its buffers and JPEG decoder. Not thread-safe

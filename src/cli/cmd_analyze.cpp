@@ -2,6 +2,7 @@
 // `infocus analyze`: per-region sharpness and blur width of every frame of a source, as JSONL or
 // CSV, written frame by frame so that nothing measured is lost when a later frame fails.
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -10,6 +11,7 @@
 #include "commands.h"
 #include "infocus/analysis.h"
 #include "infocus/metrics.h"
+#include "infocus/source.h"
 #include "parse.h"
 
 namespace infocus::cli {
@@ -26,7 +28,28 @@ struct AnalyzeArgs {
     std::string output;
     bool noBlur = false;
     bool centreWeighted = false;
+    std::string blurSearch = "auto";
 };
+
+// Regions searched afresh a frame for --blur-search auto: a live camera's stream is tracked
+// (BlurTracker) so that the blur keeps up with the frame rate; recordings, files and sim: are
+// searched in full on every frame, for the best reading of each.
+constexpr int kLiveBlurSearches = 16;
+
+// The blur searches a frame of --blur-search @p text for @p source (AnalysisOptions), or none
+// when @p text is not all, auto or a count.
+std::optional<int> blurSearches(const std::string& text, const std::string& source) {
+    if (text == "all") return 0;
+    if (text == "auto") {
+        const auto spec = parseSourceSpec(source);
+        return spec && (spec->kind == "v4l2" || spec->kind == "libcamera") ? kLiveBlurSearches : 0;
+    }
+    int n = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+    if (ec != std::errc() || end != text.data() + text.size() || n < 1 || n > 65536)
+        return std::nullopt;
+    return n;
+}
 
 std::string csvNumber(const std::optional<double>& v) {
     if (!v) return "";
@@ -129,6 +152,11 @@ int runAnalyze(const AnalyzeArgs& args) {
     options.metric = args.metric;
     options.measureBlur = !args.noBlur;
     options.centreWeighted = args.centreWeighted;
+    const auto searches = blurSearches(args.blurSearch, args.source);
+    if (!searches)
+        return usageError(cmd, "--blur-search " + args.blurSearch +
+                                   ": use all, auto or a number of regions 1-65536, e.g. 16");
+    options.blurSearchesPerFrame = *searches;
     if (args.format != "jsonl" && args.format != "csv" && args.format != "table")
         return usageError(cmd, "--format " + args.format + ": use jsonl, csv or table");
 
@@ -197,6 +225,11 @@ Command addAnalyzeCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("-o,--output", args->output, "Write to FILE instead of stdout");
     sub->add_flag("--no-blur", args->noBlur, "Sharpness only: skip the blur-width measurement");
+    sub->add_option("--blur-search", args->blurSearch,
+                    "Regions whose edges are searched afresh each frame: all, or N to measure "
+                    "the edges found before again and search N regions a frame (video rate); "
+                    "auto: 16 for v4l2 and libcamera cameras, all otherwise")
+        ->capture_default_str();
     sub->add_flag(
         "--centre-weighted", args->centreWeighted,
         "frame_sharpness weights regions near the centre more (Gaussian, σ = diagonal/4)");

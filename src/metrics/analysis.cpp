@@ -15,6 +15,7 @@ struct Analyzer::Impl {
     SharpnessParams params;
     LumaConverter converter;
     double noiseSigma = 0.0;
+    std::vector<BlurTracker> trackers;  // one per share of the regions (blurSearchesPerFrame > 0)
 };
 
 Analyzer::Analyzer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -106,10 +107,27 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
         r.sharpness = scores[i];
     }
     if (o.measureBlur) {
-        // Blur costs far more than sharpness: spread the regions over the cores.
-        const auto work = [&](size_t begin, size_t end) {
-            const std::vector<BlurEstimate> blur =
-                measureBlurRegions(img, std::span(rects).subspan(begin, end - begin));
+        // Blur costs far more than sharpness: spread the regions over the cores, each share
+        // with its own tracker when the stream is tracked.
+        const size_t n = rects.size();
+        const unsigned threads = std::max(
+            1u, std::min<unsigned>(std::thread::hardware_concurrency(), static_cast<unsigned>(n)));
+        if (o.blurSearchesPerFrame > 0 && impl_->trackers.size() != threads) {
+            // The searches a frame are shared out with the regions.
+            impl_->trackers.clear();
+            for (unsigned t = 0; t < threads; ++t) {
+                const size_t regions = n * (t + 1) / threads - n * t / threads;
+                const auto searches = static_cast<size_t>(o.blurSearchesPerFrame) * regions / n;
+                impl_->trackers.emplace_back(BlurOptions{},
+                                             static_cast<int>(std::max<size_t>(1, searches)));
+            }
+        }
+        const auto work = [&](unsigned share) {
+            const size_t begin = n * share / threads, end = n * (share + 1) / threads;
+            const auto part = std::span(rects).subspan(begin, end - begin);
+            const std::vector<BlurEstimate> blur = o.blurSearchesPerFrame > 0
+                                                       ? impl_->trackers[share].measure(img, part)
+                                                       : measureBlurRegions(img, part);
             for (size_t i = begin; i < end; ++i) {
                 const BlurEstimate& b = blur[i - begin];
                 RegionResult& r = a.regions[i];
@@ -119,14 +137,10 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
                 r.confidence = b.confidence;
             }
         };
-        const size_t n = rects.size();
-        const unsigned threads = std::min<unsigned>(
-            std::max(1u, std::thread::hardware_concurrency()), static_cast<unsigned>(n));
         std::vector<std::future<void>> jobs;
         for (unsigned t = 1; t < threads; ++t)
-            jobs.push_back(
-                std::async(std::launch::async, work, n * t / threads, n * (t + 1) / threads));
-        work(0, n / std::max(1u, threads));
+            jobs.push_back(std::async(std::launch::async, work, t));
+        work(0);
         for (auto& j : jobs)
             j.get();
     }

@@ -54,6 +54,27 @@ st=$?
 [[ $(wc -l <"$tmp/out.jsonl") -eq 2 ]] && ok || bad "intact frames written: $(wc -l <"$tmp/out.jsonl")"
 grep -q "b.jpg" "$tmp/err" && grep -q "damaged" "$tmp/err" && ok || bad "damage report: $(cat "$tmp/err")"
 
+# A tracked stream (--blur-search N) measures each frame's edges again where the first frame's
+# search found them and searches N regions afresh: on a repeated frame every blur field equals
+# the full search's, frame after frame.
+mkdir "$tmp/same" && for n in 1 2 3; do cp "$src/pcb_003.JPG" "$tmp/same/f$n.jpg"; done
+"$bin" analyze "$tmp/same" --grid 4x3 --blur-search all >"$tmp/all.jsonl" &&
+	"$bin" analyze "$tmp/same" --grid 4x3 --blur-search 2 >"$tmp/tracked.jsonl" && ok ||
+	bad "analyze --blur-search"
+if python3 - "$tmp/all.jsonl" "$tmp/tracked.jsonl" <<'PY'; then ok; else bad "tracked frames differ from searched ones"; fi
+import json, sys
+a = [json.loads(l) for l in open(sys.argv[1])]
+t = [json.loads(l) for l in open(sys.argv[2])]
+assert len(a) == len(t) == 3
+measured = 0
+for fa, ft in zip(a, t):
+    for ra, rt in zip(fa["regions"], ft["regions"]):
+        for k in ("edge_width_px", "blur_sigma_px", "blur_width_px", "confidence"):
+            assert ra[k] == rt[k], (fa["frame"], ra["col"], ra["row"], k, ra[k], rt[k])
+        measured += ra["blur_width_px"] is not None
+assert measured >= 15, measured  # most regions have an edge: the comparison is not empty
+PY
+
 # Usage errors exit 2 and say what to type; a missing file exits 1 and names it.
 expect_usage() {
 	local pat=$1
@@ -67,6 +88,8 @@ expect_usage "e.g. --grid 16x9" "$tmp/good" --grid 16by9
 expect_usage "lapv" "$tmp/good" --metric sharpest
 expect_usage "jsonl, csv or table" "$tmp/good" --format xml
 expect_usage "x,y,w,h" "$tmp/good" --roi 1,2,3
+expect_usage "all, auto or a number of regions" "$tmp/good" --blur-search some
+expect_usage "all, auto or a number of regions" "$tmp/good" --blur-search 0
 # A negative frame count is refused, not wrapped to 2^64 − 1 (it ran without end on a camera).
 expect_usage "not a frame count" "$tmp/good" --frames -1
 # A region whose far edge passes INT_MAX: outside the frame, not wrapped around (it crashed).
