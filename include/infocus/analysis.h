@@ -55,6 +55,8 @@ struct AnalysisOptions {
     /// stream's edges measured again where they were found and n regions a frame searched
     /// afresh (BlurTracker): a bounded cost a frame for live cameras.
     int blurSearchesPerFrame = 0;
+    /// With blurSearchesPerFrame > 0: seconds of a frame the searches may take (0: no limit).
+    double blurSearchBudgetS = 0.0;
 };
 
 /// Analyses frames one after another, reusing its buffers and JPEG decoder. Not thread-safe

@@ -60,14 +60,17 @@ std::vector<BlurEstimate> measureBlurRegions(const Luma8& luma, std::span<const 
 
 /// measureBlurRegions over a stream of frames, at a bounded cost a frame. Each frame, a region's
 /// edges are measured again where they were found (their line fitted again only where that
-/// fails), and only @p searchesPerFrame regions search afresh: first any not searched for
-/// 2n / searchesPerFrame frames (of n regions), then those that lost an edge, then those
-/// searched longest ago, so that a new edge in focus is seen within about that many frames. On
-/// an unchanged frame it gives measureBlurRegions' results exactly. The first frame, a change of
-/// frame size or regions, and reset() search every region. Not thread-safe.
+/// fails), and only a few regions search afresh, at most @p searchesPerFrame and, when
+/// @p searchBudgetS is above 0, only while that many seconds of the frame are not spent (one at
+/// least): first any not searched for 2n / searchesPerFrame frames (of n regions), then those
+/// that lost an edge, then those searched longest ago, so that a new edge in focus is seen within
+/// about that many frames. On an unchanged frame it gives measureBlurRegions' results exactly.
+/// The first frame, a change of frame size or regions, and reset() search every region. Not
+/// thread-safe.
 class BlurTracker {
 public:
-    explicit BlurTracker(const BlurOptions& options = {}, int searchesPerFrame = 16);
+    explicit BlurTracker(const BlurOptions& options = {}, int searchesPerFrame = 16,
+                         double searchBudgetS = 0.0);
     ~BlurTracker();
     BlurTracker(BlurTracker&&) noexcept;
     BlurTracker& operator=(BlurTracker&&) noexcept;

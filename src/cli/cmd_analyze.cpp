@@ -31,10 +31,12 @@ struct AnalyzeArgs {
     std::string blurSearch = "auto";
 };
 
-// Regions searched afresh a frame for --blur-search auto: a live camera's stream is tracked
-// (BlurTracker) so that the blur keeps up with the frame rate; recordings, files and sim: are
-// searched in full on every frame, for the best reading of each.
+// Regions searched afresh a frame for --blur-search auto, and the time they may take: a live
+// camera's stream is tracked (BlurTracker) so that the blur keeps up with the frame rate (on
+// frames far out of focus one search costs as much as all the other regions' edges);
+// recordings, files and sim: are searched in full on every frame, for the best reading of each.
 constexpr int kLiveBlurSearches = 16;
+constexpr double kLiveBlurSearchBudgetS = 1.5e-3;
 
 // The blur searches a frame of --blur-search @p text for @p source (AnalysisOptions), or none
 // when @p text is not all, auto or a count.
@@ -157,6 +159,8 @@ int runAnalyze(const AnalyzeArgs& args) {
         return usageError(cmd, "--blur-search " + args.blurSearch +
                                    ": use all, auto or a number of regions 1-65536, e.g. 16");
     options.blurSearchesPerFrame = *searches;
+    if (args.blurSearch == "auto" && *searches > 0)
+        options.blurSearchBudgetS = kLiveBlurSearchBudgetS;
     if (args.format != "jsonl" && args.format != "csv" && args.format != "table")
         return usageError(cmd, "--format " + args.format + ": use jsonl, csv or table");
 
@@ -228,7 +232,8 @@ Command addAnalyzeCommand(CLI::App& app) {
     sub->add_option("--blur-search", args->blurSearch,
                     "Regions whose edges are searched afresh each frame: all, or N to measure "
                     "the edges found before again and search N regions a frame (video rate); "
-                    "auto: 16 for v4l2 and libcamera cameras, all otherwise")
+                    "auto: for v4l2 and libcamera cameras 16 a frame within 1.5 ms, all "
+                    "otherwise")
         ->capture_default_str();
     sub->add_flag(
         "--centre-weighted", args->centreWeighted,

@@ -119,7 +119,8 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
                 const size_t regions = n * (t + 1) / threads - n * t / threads;
                 const auto searches = static_cast<size_t>(o.blurSearchesPerFrame) * regions / n;
                 impl_->trackers.emplace_back(BlurOptions{},
-                                             static_cast<int>(std::max<size_t>(1, searches)));
+                                             static_cast<int>(std::max<size_t>(1, searches)),
+                                             o.blurSearchBudgetS);
             }
         }
         const auto work = [&](unsigned share) {

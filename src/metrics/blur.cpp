@@ -4,6 +4,7 @@
 #include "infocus/blur.h"
 
 #include <algorithm>
+#include <chrono>
 #include <climits>
 #include <cmath>
 #include <functional>
@@ -1291,16 +1292,18 @@ struct BlurTracker::Impl {
     };
     BlurOptions options;
     int searchesPerFrame = 0;
+    double searchBudgetS = 0.0;  // seconds of searching a frame; 0: no limit
     int width = 0, height = 0;
     std::vector<Rect> rois;
     std::vector<Region> regions;
     uint64_t frame = 0;  // frames measured since the last full search
 };
 
-BlurTracker::BlurTracker(const BlurOptions& options, int searchesPerFrame)
+BlurTracker::BlurTracker(const BlurOptions& options, int searchesPerFrame, double searchBudgetS)
     : impl_(std::make_unique<Impl>()) {
     impl_->options = sanitized(options);
     impl_->searchesPerFrame = std::max(searchesPerFrame, 1);
+    impl_->searchBudgetS = std::isnan(searchBudgetS) ? 0.0 : std::max(searchBudgetS, 0.0);
 }
 
 BlurTracker::~BlurTracker() = default;
@@ -1313,6 +1316,8 @@ void BlurTracker::reset() {
 }
 
 std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<const Rect> rois) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
     Impl& t = *impl_;
     const bool same = luma.width == t.width && luma.height == t.height &&
                       std::equal(rois.begin(), rois.end(), t.rois.begin(), t.rois.end());
@@ -1323,13 +1328,30 @@ std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<cons
         t.regions.assign(n, {});
         t.frame = 0;
     }
-    // This frame's searches: every region on the first frame. Then searchesPerFrame of them:
-    // first the regions not searched for 2n / searchesPerFrame frames, then those that lost an
-    // edge, then those searched longest ago, oldest first within each. A frame's cost stays
-    // bounded while the scene changes, lost edges are looked for again at once, and no region
-    // goes unsearched for long (a sharper edge may have come into focus there).
-    std::vector<char> search(n, !same);
-    if (same) {
+    std::vector<BlurEstimate> out(n);
+    std::vector<char> searched(n, 0);
+    // A region searched afresh: its edges and where they were found replace the old ones.
+    const auto search = [&](size_t i, size_t next) {
+        Impl::Region& r = t.regions[i];
+        RowPrefetcher ahead = next < n ? RowPrefetcher(luma, rois[next]) : RowPrefetcher();
+        r.edges.clear();
+        out[i] = blurFromEdges(measureEdgesPrefetching(luma, rois[i], t.options, ahead, &r.edges),
+                               t.options);
+        ahead.finish();
+        r.due = false;
+        r.searched = t.frame;
+        searched[i] = 1;
+    };
+    if (!same) {
+        // The first frame: every region, in order.
+        for (size_t i = 0; i < n; ++i)
+            search(i, i + 1);
+    } else {
+        // This frame's searches, at most searchesPerFrame: first the regions not searched for
+        // 2n / searchesPerFrame frames, then those that lost an edge, then those searched
+        // longest ago, oldest first within each. A frame's cost stays bounded while the scene
+        // changes, lost edges are looked for again at once, and no region goes unsearched for
+        // long (a sharper edge may have come into focus there).
         std::vector<size_t> order(n);
         for (size_t i = 0; i < n; ++i)
             order[i] = i;
@@ -1337,32 +1359,34 @@ std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<cons
         std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
             return t.regions[a].searched < t.regions[b].searched;
         });
-        const auto budget = static_cast<size_t>(t.searchesPerFrame);
-        const uint64_t overdue = 2 * n / budget;
-        size_t chosen = 0;
-        const auto choose = [&](auto&& wanted) {
+        const auto most = static_cast<size_t>(t.searchesPerFrame);
+        const uint64_t overdue = 2 * n / most;
+        std::vector<size_t> queue;
+        std::vector<char> queued(n, 0);
+        const auto take = [&](auto&& wanted) {
             for (const size_t i : order)
-                if (chosen < budget && !search[i] && wanted(t.regions[i])) search[i] = 1, ++chosen;
+                if (queue.size() < most && !queued[i] && wanted(t.regions[i]))
+                    queue.push_back(i), queued[i] = 1;
         };
-        choose([&](const Impl::Region& r) { return t.frame - r.searched >= overdue; });
-        choose([](const Impl::Region& r) { return r.due; });
-        choose([](const Impl::Region&) { return true; });
+        take([&](const Impl::Region& r) { return t.frame - r.searched >= overdue; });
+        take([](const Impl::Region& r) { return r.due; });
+        take([](const Impl::Region&) { return true; });
+        // With a time budget, the searches stop once it is spent (one at least, so that the
+        // round goes on): on frames far out of focus a search costs many times more.
+        for (size_t q = 0; q < queue.size(); ++q) {
+            if (q > 0 && t.searchBudgetS > 0.0 &&
+                std::chrono::duration<double>(Clock::now() - start).count() >= t.searchBudgetS)
+                break;
+            search(queue[q], q + 1 < queue.size() ? queue[q + 1] : n);
+        }
     }
-    std::vector<BlurEstimate> out;
-    out.reserve(n);
+    // Every other region: its edges measured again where they were found.
+    const Kernels kernels = chooseKernels(t.options);
     for (size_t i = 0; i < n; ++i) {
+        if (searched[i]) continue;
         Impl::Region& r = t.regions[i];
         std::vector<EdgeMeasurement> edges;
-        if (search[i]) {
-            RowPrefetcher next =
-                i + 1 < n && search[i + 1] ? RowPrefetcher(luma, rois[i + 1]) : RowPrefetcher();
-            r.edges.clear();
-            edges = measureEdgesPrefetching(luma, rois[i], t.options, next, &r.edges);
-            next.finish();
-            r.due = false;
-            r.searched = t.frame;
-        } else if (const auto setup = regionSetup(luma, rois[i], t.options)) {
-            const Kernels kernels = chooseKernels(t.options);
+        if (const auto setup = regionSetup(luma, rois[i], t.options)) {
             size_t kept = 0;
             for (EdgeTrack& e : r.edges)
                 if (const auto m = remeasureEdge(luma, setup->sb, t.options, kernels, e)) {
@@ -1372,7 +1396,7 @@ std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<cons
             r.due = kept < r.edges.size();
             r.edges.resize(kept);
         }
-        out.push_back(blurFromEdges(edges, t.options));
+        out[i] = blurFromEdges(edges, t.options);
     }
     ++t.frame;
     return out;
