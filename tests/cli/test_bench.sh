@@ -41,6 +41,19 @@ for b in blur:
     # hold no edge with two plateaus.
     least = 120 if b["frame_blur_width_px"] == 4.0 else 80
     assert least <= measured <= 144, b["note"]
+# The stream row: the tracker through a focus pull beside a full search of every frame; it must
+# keep most of the search's regions and of its readings within 10 % of the true disc.
+import re
+stream = [r for r in rows if r["what"] == "blur_stream"]
+assert len(stream) == 1 and (stream[0]["width"], stream[0]["height"]) == (1920, 1080), stream
+s = stream[0]
+assert "baseline_ms" in s, s
+m = re.search(r"a frame: ([\d.]+) regions with an edge, ([\d.]+) within 10 % of the true disc "
+              r"\(searching every frame: ([\d.]+), ([\d.]+)\)", s["note"])
+assert m, s["note"]
+regions, near, searched, searched_near = map(float, m.groups())
+assert searched >= 80 and searched_near >= 20, s["note"]  # the comparison is not empty
+assert regions >= 0.8 * searched and near >= 0.8 * searched_near, s["note"]
 PY
 st=$?
 [[ $st -eq 0 ]] && echo "ok" || echo "FAIL: bench JSON contract"
