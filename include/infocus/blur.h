@@ -62,9 +62,10 @@ std::vector<BlurEstimate> measureBlurRegions(const Luma8& luma, std::span<const 
 /// edges are measured again where they were found (their line fitted again only where that
 /// fails), and only a few regions search afresh, at most @p searchesPerFrame and, when
 /// @p searchBudgetS is above 0, only while that many seconds of the frame are not spent (one at
-/// least): first any not searched for 2n / searchesPerFrame frames (of n regions), then those
-/// that lost an edge, then those searched longest ago, so that a new edge in focus is seen within
-/// about that many frames. On an unchanged frame it gives measureBlurRegions' results exactly.
+/// least; an edge that fails where it was is then looked for again only within twice that):
+/// first any not searched for 2n / searchesPerFrame frames (of n regions), then those that lost
+/// an edge, then those searched longest ago, so that a new edge in focus is seen within about
+/// that many frames. On an unchanged frame it gives measureBlurRegions' results exactly.
 /// The first frame, a change of frame size or regions, and reset() search every region. Not
 /// thread-safe.
 class BlurTracker {

@@ -1163,10 +1163,10 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
 // Where that fit gives no usable edge, the edge may have moved (focus breathing, a camera that
 // shifts): its line is fitted again in the patch's slab, as measureSegment refits it, and the
 // edge measured there, widened as measureSegment widens it while its line spread does not fit.
-// Empty when it gives no usable edge then either.
+// Empty when it gives no usable edge then either, or at once when @p rescue is false.
 std::optional<EdgeMeasurement> remeasureEdge(const Luma8& luma, const Bounds& sb,
                                              const BlurOptions& o, const Kernels& k,
-                                             EdgeTrack& track) {
+                                             EdgeTrack& track, bool rescue) {
     thread_local BinList bins;
     thread_local PairTerms terms;
     thread_local std::vector<Slice> sl;
@@ -1190,6 +1190,7 @@ std::optional<EdgeMeasurement> remeasureEdge(const Luma8& luma, const Bounds& sb
             if (usable(g)) f = g;
         }
         if (usable(f)) return makeMeasurement(patch, f, track.straight, o);
+        if (!rescue) return std::nullopt;
         refit = true;
         if (!refitted) continue;
         if (f.ok || !f.needWider || patch.hw >= o.maxHalfWidthPx) return std::nullopt;
@@ -1380,7 +1381,10 @@ std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<cons
             search(queue[q], q + 1 < queue.size() ? queue[q + 1] : n);
         }
     }
-    // Every other region: its edges measured again where they were found.
+    // Every other region: its edges measured again where they were found. With a time budget,
+    // an edge that fails there is looked for again (refitted, widened) only while the frame has
+    // taken less than twice the budget: after a cut most edges fail, and their rescue, not
+    // their one ESF each, is what makes that frame slow. Dropped, they wait for a search.
     const Kernels kernels = chooseKernels(t.options);
     for (size_t i = 0; i < n; ++i) {
         if (searched[i]) continue;
@@ -1389,7 +1393,11 @@ std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<cons
         if (const auto setup = regionSetup(luma, rois[i], t.options)) {
             size_t kept = 0;
             for (EdgeTrack& e : r.edges)
-                if (const auto m = remeasureEdge(luma, setup->sb, t.options, kernels, e)) {
+                if (const auto m = remeasureEdge(
+                        luma, setup->sb, t.options, kernels, e,
+                        t.searchBudgetS <= 0.0 ||
+                            std::chrono::duration<double>(Clock::now() - start).count() <
+                                2.0 * t.searchBudgetS)) {
                     edges.push_back(*m);
                     r.edges[kept++] = e;
                 }
