@@ -94,6 +94,24 @@ TEST_CASE("after a cut every region is searched again within 2n / searchesPerFra
                       measureBlurRegions(small.view(), smallRois)) >= 3);
 }
 
+TEST_CASE("a spent time budget leaves one search a frame, and the round still reaches every region",
+          "[blur][tracker]") {
+    // A budget of a nanosecond is spent before the second search of every frame and before any
+    // failed edge could be refitted: one region a frame is searched, and the others keep only
+    // the edges found again where they were.
+    const auto a = texture(480, 270, 78, 5.0, 6);
+    const auto b = texture(480, 270, 4242, 3.0, 9);
+    const std::vector<Rect> rois = grid(480, 270, 6, 4);  // 24 regions
+    const std::vector<BlurEstimate> searchedA = measureBlurRegions(a.view(), rois);
+    BlurTracker tracker({}, 16, 1e-9);
+    for (int frame = 0; frame < 3; ++frame)
+        CHECK(requireSame(tracker.measure(a.view(), rois), searchedA) >= 15);
+    // After a cut, one search a frame reaches all 24 regions within 24 frames.
+    for (int frame = 0; frame < 24; ++frame)
+        tracker.measure(b.view(), rois);
+    CHECK(requireSame(tracker.measure(b.view(), rois), measureBlurRegions(b.view(), rois)) >= 15);
+}
+
 TEST_CASE("through a focus pull the tracker reads as well as a search of every frame",
           "[blur][tracker]") {
     // A live focus assistant's stream: the bench's 1080p dead-leaves texture, 16×9 regions,
