@@ -857,6 +857,38 @@ bool usable(const EsfFit& f) {
            f.varLsf >= 0.5 * kPixelVariance && f.plateauPixels > 0;
 }
 
+// The line of the edge in @p patch fitted again in the patch's own slab (@p slices slices along
+// it, derivative above @p threshold), and the patch moved onto it; empty when too few slices
+// hold an edge.
+std::optional<LineFit> refitOnto(const Luma8& img, const Bounds& b, const Kernels& k, Patch& patch,
+                                 double threshold, int slices) {
+    thread_local std::vector<Slice> sl;
+    sl.resize(slices);
+    geometrySlices(img, b, k, patch, threshold, slices, sl.data());
+    const LineFit line = fitLine(sl.data(), slices);
+    if (!line.ok) return std::nullopt;
+    moveOnto(patch, line);
+    return line;
+}
+
+// The ESF fit of @p bins over the whole patch and, when that gives no usable edge and
+// @p narrowStart is above 0, the fit of the same bins from a window of ±narrowStart about the
+// line (measureSegment says why), kept only where it gives one.
+EsfFit fitWithSecondStart(const BinList& bins, const PairTerms& terms, double halfWidth,
+                          double minContrast, double narrowStart) {
+    const EsfFit f = fitEsf(bins, terms, halfWidth, minContrast);
+    if (usable(f) || narrowStart <= 0.0) return f;
+    const EsfFit g = fitEsf(bins, terms, halfWidth, minContrast, narrowStart);
+    return usable(g) ? g : f;
+}
+
+// The half-width a patch of half-width @p hw is widened to when the line spread of fit @p f does
+// not fit in it: 1.6 × as wide, and at least 4 σ + 4 px of that spread, up to maxHalfWidthPx.
+double widerHalfWidth(const EsfFit& f, double hw, const BlurOptions& o) {
+    const double sd = std::sqrt(std::max(f.varLsf, 0.1));
+    return std::min(o.maxHalfWidthPx, std::max(1.6 * hw, 4.0 * sd + 4.0));
+}
+
 // Measures the edge along @p patch (on the edge's line, half-length set, @p slices slices along
 // it) from the line @p line found in the probe. The ESF is sampled as wide as the guessed blur
 // needs; where the probe's slab may have cut the derivative, the geometry is refitted in the
@@ -875,21 +907,17 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
     const bool cut =
         std::abs(line.a) + std::abs(line.slope) * patch.hl + 3.0 * sd0 > kProbeHalfWidthPx;
     bool refit = cut;
-    thread_local std::vector<Slice> sl;
-    sl.resize(slices);
     thread_local BinList bins;
     for (int pass = 0; pass < 6; ++pass) {
         if (refit) {
-            geometrySlices(img, b, k, patch, threshold, slices, sl.data());
-            line = fitLine(sl.data(), slices);
-            if (!line.ok) return std::nullopt;
-            moveOnto(patch, line);
+            const auto fitted = refitOnto(img, b, k, patch, threshold, slices);
+            if (!fitted) return std::nullopt;
+            line = *fitted;
         }
         sampleEsf(img, b, k, patch, o.binPx, bins);
         // The bin-pair terms once per ESF: every fit of these bins reads them.
         thread_local PairTerms terms;
         if (bins.size >= kMinEsfBins) terms.set(bins, k);
-        EsfFit f = fitEsf(bins, terms, patch.hw, o.minContrast);
         // The window started over the whole patch takes in, on crowded texture, the edges beside
         // this one, and may wander off it or lose its contrast. Where the probe's slab held the
         // derivative, the σ guessed from it bounds the edge's own line spread: the same bins are
@@ -899,10 +927,7 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
         // clutter and reads the edge narrow). No pixel is read again. On the bench frame more
         // seeds give an edge, and 142 regions of 144 measure instead of 132 (docs/blur.md).
         const double narrowStart = pass == 0 && !cut ? 4.0 * largestSigma(sd0) + 1.0 : 0.0;
-        if (!usable(f) && narrowStart > 0.0) {
-            const EsfFit g = fitEsf(bins, terms, patch.hw, o.minContrast, narrowStart);
-            if (usable(g)) f = g;
-        }
+        const EsfFit f = fitWithSecondStart(bins, terms, patch.hw, o.minContrast, narrowStart);
         if (usable(f)) {
             track = {patch, line.straight, narrowStart, threshold, slices};
             return makeMeasurement(patch, f, line.straight, o);
@@ -915,8 +940,7 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
         // usable edge once widened). Only an edge whose derivative the slab may have cut, a wide
         // blur, is widened.
         if (!cut) return std::nullopt;
-        const double sd = std::sqrt(std::max(f.varLsf, 0.1));
-        patch.hw = std::min(o.maxHalfWidthPx, std::max(1.6 * patch.hw, 4.0 * sd + 4.0));
+        patch.hw = widerHalfWidth(f, patch.hw, o);
         refit = true;
     }
     return std::nullopt;
@@ -1169,33 +1193,25 @@ std::optional<EdgeMeasurement> remeasureEdge(const Luma8& luma, const Bounds& sb
                                              EdgeTrack& track, bool rescue) {
     thread_local BinList bins;
     thread_local PairTerms terms;
-    thread_local std::vector<Slice> sl;
     Patch& patch = track.patch;
     bool refit = false, refitted = false;
     for (int pass = 0; pass < 6; ++pass) {
         if (refit) {
-            sl.resize(track.slices);
-            geometrySlices(luma, sb, k, patch, track.threshold, track.slices, sl.data());
-            const LineFit line = fitLine(sl.data(), track.slices);
-            if (!line.ok) return std::nullopt;
-            moveOnto(patch, line);
-            track.straight = line.straight;
+            const auto line = refitOnto(luma, sb, k, patch, track.threshold, track.slices);
+            if (!line) return std::nullopt;
+            track.straight = line->straight;
             refitted = true;
         }
         sampleEsf(luma, sb, k, patch, o.binPx, bins);
         if (bins.size >= kMinEsfBins) terms.set(bins, k);
-        EsfFit f = fitEsf(bins, terms, patch.hw, o.minContrast);
-        if (!usable(f) && track.narrowStart > 0.0) {
-            const EsfFit g = fitEsf(bins, terms, patch.hw, o.minContrast, track.narrowStart);
-            if (usable(g)) f = g;
-        }
+        const EsfFit f =
+            fitWithSecondStart(bins, terms, patch.hw, o.minContrast, track.narrowStart);
         if (usable(f)) return makeMeasurement(patch, f, track.straight, o);
         if (!rescue) return std::nullopt;
         refit = true;
         if (!refitted) continue;
         if (f.ok || !f.needWider || patch.hw >= o.maxHalfWidthPx) return std::nullopt;
-        const double sd = std::sqrt(std::max(f.varLsf, 0.1));
-        patch.hw = std::min(o.maxHalfWidthPx, std::max(1.6 * patch.hw, 4.0 * sd + 4.0));
+        patch.hw = widerHalfWidth(f, patch.hw, o);
         track.narrowStart = 0.0;
     }
     return std::nullopt;
