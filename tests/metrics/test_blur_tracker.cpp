@@ -49,6 +49,14 @@ int requireSame(const std::vector<BlurEstimate>& a, const std::vector<BlurEstima
     return measured;
 }
 
+// A stream that cuts from one textured frame (a) to another (b) of the same size, over a 6×4 grid
+// (24 regions).
+struct Cut {
+    Image<uint8_t> a = texture(480, 270, 78, 5.0, 6);
+    Image<uint8_t> b = texture(480, 270, 4242, 3.0, 9);
+    std::vector<Rect> rois = grid(480, 270, 6, 4);
+};
+
 }  // namespace
 
 TEST_CASE("an unchanged frame gives measureBlurRegions' results, frame after frame",
@@ -71,9 +79,8 @@ TEST_CASE("an unchanged frame gives measureBlurRegions' results, frame after fra
 
 TEST_CASE("after a cut every region is searched again within 2n / searchesPerFrame frames",
           "[blur][tracker]") {
-    const auto a = texture(480, 270, 78, 5.0, 6);
-    const auto b = texture(480, 270, 4242, 3.0, 9);
-    const std::vector<Rect> rois = grid(480, 270, 6, 4);  // 24 regions
+    const Cut cut;
+    const auto& [a, b, rois] = cut;
     const std::vector<BlurEstimate> searchedB = measureBlurRegions(b.view(), rois);
     BlurTracker tracker({}, 4);
     for (int frame = 0; frame < 3; ++frame)
@@ -99,9 +106,8 @@ TEST_CASE("a spent time budget leaves one search a frame, and the round still re
     // A budget of a nanosecond is spent before the second search of every frame and before any
     // failed edge could be refitted: one region a frame is searched, and the others keep only
     // the edges found again where they were.
-    const auto a = texture(480, 270, 78, 5.0, 6);
-    const auto b = texture(480, 270, 4242, 3.0, 9);
-    const std::vector<Rect> rois = grid(480, 270, 6, 4);  // 24 regions
+    const Cut cut;
+    const auto& [a, b, rois] = cut;
     const std::vector<BlurEstimate> searchedA = measureBlurRegions(a.view(), rois);
     BlurTracker tracker({}, 16, 1e-9);
     for (int frame = 0; frame < 3; ++frame)
