@@ -38,19 +38,28 @@ struct AnalyzeArgs {
 constexpr int kLiveBlurSearches = 16;
 constexpr double kLiveBlurSearchBudgetS = 1.5e-3;
 
-// The blur searches a frame of --blur-search @p text for @p source (AnalysisOptions), or none
-// when @p text is not all, auto or a count.
-std::optional<int> blurSearches(const std::string& text, const std::string& source) {
-    if (text == "all") return 0;
+// What --blur-search asks of AnalysisOptions: the regions searched afresh a frame (0: all) and
+// the seconds their searches may take (0: no limit).
+struct BlurSearch {
+    int perFrame = 0;
+    double budgetS = 0.0;
+};
+
+// The blur searches of --blur-search @p text for @p source, or none when @p text is not all, auto
+// or a count.
+std::optional<BlurSearch> blurSearch(const std::string& text, const std::string& source) {
+    if (text == "all") return BlurSearch{};
     if (text == "auto") {
         const auto spec = parseSourceSpec(source);
-        return spec && (spec->kind == "v4l2" || spec->kind == "libcamera") ? kLiveBlurSearches : 0;
+        if (spec && (spec->kind == "v4l2" || spec->kind == "libcamera"))
+            return BlurSearch{kLiveBlurSearches, kLiveBlurSearchBudgetS};
+        return BlurSearch{};
     }
     int n = 0;
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
     if (ec != std::errc() || end != text.data() + text.size() || n < 1 || n > 65536)
         return std::nullopt;
-    return n;
+    return BlurSearch{n, 0.0};
 }
 
 std::string csvNumber(const std::optional<double>& v) {
@@ -154,13 +163,12 @@ int runAnalyze(const AnalyzeArgs& args) {
     options.metric = args.metric;
     options.measureBlur = !args.noBlur;
     options.centreWeighted = args.centreWeighted;
-    const auto searches = blurSearches(args.blurSearch, args.source);
-    if (!searches)
+    const auto search = blurSearch(args.blurSearch, args.source);
+    if (!search)
         return usageError(cmd, "--blur-search " + args.blurSearch +
                                    ": use all, auto or a number of regions 1-65536, e.g. 16");
-    options.blurSearchesPerFrame = *searches;
-    if (args.blurSearch == "auto" && *searches > 0)
-        options.blurSearchBudgetS = kLiveBlurSearchBudgetS;
+    options.blurSearchesPerFrame = search->perFrame;
+    options.blurSearchBudgetS = search->budgetS;
     if (args.format != "jsonl" && args.format != "csv" && args.format != "table")
         return usageError(cmd, "--format " + args.format + ": use jsonl, csv or table");
 

@@ -1335,6 +1335,9 @@ void BlurTracker::reset() {
 std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<const Rect> rois) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
+    const auto elapsedS = [&] {
+        return std::chrono::duration<double>(Clock::now() - start).count();
+    };
     Impl& t = *impl_;
     const bool same = luma.width == t.width && luma.height == t.height &&
                       std::equal(rois.begin(), rois.end(), t.rois.begin(), t.rois.end());
@@ -1391,9 +1394,7 @@ std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<cons
         // With a time budget, the searches stop once it is spent (one at least, so that the
         // round goes on): on frames far out of focus a search costs many times more.
         for (size_t q = 0; q < queue.size(); ++q) {
-            if (q > 0 && t.searchBudgetS > 0.0 &&
-                std::chrono::duration<double>(Clock::now() - start).count() >= t.searchBudgetS)
-                break;
+            if (q > 0 && t.searchBudgetS > 0.0 && elapsedS() >= t.searchBudgetS) break;
             search(queue[q], q + 1 < queue.size() ? queue[q + 1] : n);
         }
     }
@@ -1411,9 +1412,7 @@ std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<cons
             for (EdgeTrack& e : r.edges)
                 if (const auto m = remeasureEdge(
                         luma, setup->sb, t.options, kernels, e,
-                        t.searchBudgetS <= 0.0 ||
-                            std::chrono::duration<double>(Clock::now() - start).count() <
-                                2.0 * t.searchBudgetS)) {
+                        t.searchBudgetS <= 0.0 || elapsedS() < 2.0 * t.searchBudgetS)) {
                     edges.push_back(*m);
                     r.edges[kept++] = e;
                 }
