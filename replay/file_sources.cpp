@@ -284,6 +284,9 @@ Result<std::vector<uint8_t>> readFile(const std::string& path) {
 Result<Frame> loadImage(const std::string& path) {
     auto bytes = readFile(path);
     if (!bytes) return bytes.error();
+    if (bytes->empty())
+        return makeError(ErrorKind::Corrupt,
+                         "image " + path + " is empty (0 bytes); copy or export it again");
     const bool jpeg = bytes->size() > 3 && (*bytes)[0] == 0xFF && (*bytes)[1] == 0xD8;
     if (jpeg) {
         tjhandle tj = tjInitDecompress();
@@ -293,8 +296,13 @@ Result<Frame> loadImage(const std::string& path) {
         const std::string why = rc != 0 ? tjGetErrorStr2(tj) : "";
         tjDestroy(tj);
         if (rc != 0)
-            return makeError(ErrorKind::Corrupt,
-                             "image " + path + " is not a readable JPEG (" + why + ")");
+            return makeError(ErrorKind::Corrupt, "image " + path + " is not a readable JPEG (" +
+                                                     why + "); copy or export it again");
+        // A file cut inside its header may still parse without a frame size.
+        if (w <= 0 || h <= 0)
+            return makeError(ErrorKind::Corrupt, "image " + path +
+                                                     " is a JPEG cut short before its frame "
+                                                     "size; copy or export it again");
         Frame f = makeCompressedFrame(PixelFormat::MJPEG, {w, h}, bytes->data(), bytes->size());
         f.origin = path;
         return f;
@@ -302,14 +310,18 @@ Result<Frame> loadImage(const std::string& path) {
     cv::Mat m;
     try {
         m = cv::imdecode(*bytes, cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
-    } catch (const cv::Exception& e) {
-        return makeError(ErrorKind::Corrupt,
-                         "image " + path + " cannot be decoded (" + e.what() + ")");
+    } catch (const cv::Exception&) {
+        // OpenCV's message is a source location and an assertion: name the file instead.
+        return makeError(ErrorKind::Corrupt, "image " + path +
+                                                 " cannot be decoded: OpenCV rejects it as "
+                                                 "damaged; copy or export it again");
     }
     if (m.empty())
         return makeError(
             ErrorKind::Corrupt,
-            "image " + path + " cannot be decoded: not an image format OpenCV reads, or damaged");
+            "image " + path +
+                " cannot be decoded: not an image format OpenCV reads, or damaged; give a JPEG, "
+                "PNG, TIFF or another format OpenCV reads");
     PixelFormat format;
     if (m.depth() == CV_8U) {
         format = PixelFormat::GREY;

@@ -116,6 +116,10 @@ struct LumaConverter::Impl {
                                 &colorspace) != 0)
             return makeError(ErrorKind::Corrupt, describe(f) + ": not a decodable JPEG (" +
                                                      std::string(tjGetErrorStr2(tj)) + ")");
+        // A buffer cut inside the JPEG header may still parse without a frame size.
+        if (w <= 0 || h <= 0)
+            return makeError(ErrorKind::Corrupt,
+                             describe(f) + ": JPEG cut short before its frame size");
         auto buf = buffer<uint8_t>(w, h);
         // TJPF_GRAY makes libjpeg-turbo skip IDCT, upsampling and colour conversion of the chroma
         // components: only the Y component is reconstructed.

@@ -214,6 +214,21 @@ TEST_CASE("images: JPEG as MJPEG bytes, PNG as GREY or Y16, directories and glob
         REQUIRE(alone.error().kind == ErrorKind::Corrupt);
         REQUIRE_THAT(alone.error().message, Catch::Contains("bb_broken.png"));
     }
+    SECTION("an empty file and a JPEG cut inside its header say so") {
+        std::ofstream(dir + "/empty.png").close();
+        auto empty = openPath(dir + "/empty.png");
+        REQUIRE(!empty.ok());
+        REQUIRE(empty.error().kind == ErrorKind::Corrupt);
+        REQUIRE_THAT(empty.error().message, Catch::Contains("empty.png is empty (0 bytes)"));
+        // The JPEG's first 20 bytes: its start marker and part of the APP0 segment, no frame
+        // header.
+        std::ofstream(dir + "/cut.jpg", std::ios::binary).write(bytes.data(), 20);
+        auto cut = openPath(dir + "/cut.jpg");
+        REQUIRE(!cut.ok());
+        REQUIRE(cut.error().kind == ErrorKind::Corrupt);
+        REQUIRE_THAT(cut.error().message, Catch::Contains("cut.jpg"));
+        REQUIRE_THAT(cut.error().message, !Catch::Contains("OpenCV("));
+    }
 }
 
 TEST_CASE("the real focus stack plays as MJPEG frames in name order") {
