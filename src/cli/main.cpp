@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
 
     const auto commands = infocus::cli::registerCommands(app);
     // CLI11 would only say "a subcommand is required" for a misspelt command: name it.
+    std::string command;  // the command given, for the messages of its usage errors
     if (argc > 1 && argv[1][0] != '-') {
         bool known = false;
         std::string names;
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
             known = known || c.app->get_name() == argv[1];
             names += (names.empty() ? "" : ", ") + c.app->get_name();
         }
+        if (known) command = argv[1];
         if (!known) {
             std::cerr << "infocus: unknown command '" << argv[1] << "'; the commands are: " << names
                       << "\nRun 'infocus --help' for what each does.\n";
@@ -40,7 +42,14 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        app.exit(e);  // prints the message and the --help hint
+        // CLI11's own message ("--output is required"), said by the command it concerns, with
+        // where its options are listed.
+        if (command.empty()) {
+            app.exit(e);  // prints the message and the --help hint
+        } else {
+            std::cerr << "infocus " << command << ": " << e.what() << "\nRun 'infocus " << command
+                      << " --help' for the options.\n";
+        }
         return infocus::cli::kExitUsage;
     }
     for (const auto& c : commands)

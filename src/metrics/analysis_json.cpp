@@ -100,8 +100,11 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
         }
         return a;
     } catch (const nlohmann::json::exception& e) {
-        // nlohmann names the missing key or the type mismatch.
-        return fail(e.what());
+        // nlohmann names the missing key or the type mismatch, after a tag for programmers
+        // ("[json.exception.out_of_range.403] ") that a reader of the message does not need.
+        const std::string what = e.what();
+        const size_t tag = what.rfind("] ", what.find(' '));
+        return fail(tag == std::string::npos ? what : what.substr(tag + 2));
     }
 }
 

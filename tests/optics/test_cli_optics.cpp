@@ -132,6 +132,23 @@ TEST_CASE("usage errors exit 2 and say what to type", "[cli]") {
     usage("depth sim: --frames 1 --lens rpi-cam3 --min-confidence nan",
           "--min-confidence must be a number from 0 to 1");
     usage("depth sim: --lens rpi-cam3 --frames -1", "not a frame count");
+    // CLI11's own errors are said by the command, with where its options are listed.
+    usage("record sim: --frames 2", "infocus record: --output is required");
+    usage("record sim: --frames 2", "Run 'infocus record --help' for the options.");
+}
+
+TEST_CASE("depth names the line and the field of a record it cannot read", "[cli]") {
+    char path[] = "/tmp/infocus-depth-bad-XXXXXX.jsonl";
+    const int fd = ::mkstemps(path, 6);
+    REQUIRE(fd >= 0);
+    ::close(fd);
+    std::ofstream(path) << "{\"frame\": 0, \"regions\": []}\n";
+    const Run r = run(std::string("depth ") + path + " --lens rpi-cam3");
+    std::remove(path);
+    INFO(r.out);
+    CHECK(r.status == 1);
+    CHECK(has(r, "line 1: analysis record: key 'width' not found"));
+    CHECK(!has(r, "json.exception"));
 }
 
 TEST_CASE("depth on a blur map rendered from the lecture's model", "[cli]") {
