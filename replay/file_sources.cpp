@@ -93,7 +93,10 @@ public:
     static Result<std::unique_ptr<FrameReader>> open(const std::string& path,
                                                      const std::string& text) {
         const auto bad = [&](const std::string& why) -> Error {
-            return makeError(ErrorKind::Corrupt, "Y4M file " + path + ": " + why);
+            return makeError(ErrorKind::Corrupt,
+                             "Y4M file " + path + ": " + why +
+                                 "; write it again as YUV4MPEG2, e.g. ffmpeg -i IN -f "
+                                 "yuv4mpegpipe OUT.y4m");
         };
         const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
         if (fd < 0) {
@@ -129,7 +132,8 @@ public:
                     break;  // interlacing, aspect ratio, X comments: irrelevant to luma
             }
         }
-        if (r->size_.width <= 0 || r->size_.height <= 0) return bad("no valid W and H in header");
+        if (r->size_.width <= 0 || r->size_.height <= 0)
+            return bad("its header has no positive width (W) and height (H)");
         r->fps_ = fpsNum > 0 && fpsDen > 0 ? static_cast<double>(fpsNum) / fpsDen : 0.0;
 
         // Bytes per sample and chroma subsampling from the colour space tag.

@@ -144,6 +144,16 @@ TEST_CASE("Y4M: 420, 422, 444 and mono deliver the luma plane") {
         REQUIRE(src.error().kind == ErrorKind::Unsupported);
         REQUIRE_THAT(src.error().message, Catch::Contains("411"));
     }
+    SECTION("a header without a size says what to do") {
+        const std::string path = dir + "/nosize.y4m";
+        std::ofstream(path, std::ios::binary) << "YUV4MPEG2 W0 H48 F25:1\nFRAME\n";
+        auto src = openPath(path);
+        REQUIRE(!src.ok());
+        REQUIRE(src.error().kind == ErrorKind::Corrupt);
+        REQUIRE_THAT(src.error().message, Catch::Contains("nosize.y4m") &&
+                                              Catch::Contains("no positive width") &&
+                                              Catch::Contains("yuv4mpegpipe"));
+    }
 }
 
 TEST_CASE("images: JPEG as MJPEG bytes, PNG as GREY or Y16, directories and globs in order") {
