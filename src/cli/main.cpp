@@ -26,12 +26,12 @@ int main(int argc, char** argv) {
             known = known || c.app->get_name() == argv[1];
             names += (names.empty() ? "" : ", ") + c.app->get_name();
         }
-        if (known) command = argv[1];
         if (!known) {
             std::cerr << "infocus: unknown command '" << argv[1] << "'; the commands are: " << names
                       << "\nRun 'infocus --help' for what each does.\n";
             return infocus::cli::kExitUsage;
         }
+        command = argv[1];
     }
     try {
         app.parse(argc, argv);

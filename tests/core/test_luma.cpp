@@ -275,6 +275,14 @@ TEST_CASE("MJPEG decodes luma only, matching the encoded picture", "[luma][mjpeg
     auto bad = conv.toLuma8(cut);
     REQUIRE_FALSE(bad.ok());
     CHECK(bad.error().kind == ErrorKind::Corrupt);
+
+    // Cut inside the header (its first 20 bytes: the start marker and part of APP0), where the
+    // header still parses without a frame size: damage, named as such.
+    Frame head = makeCompressedFrame(PixelFormat::MJPEG, {w, h}, fr.planes[0].data, 20);
+    auto early = conv.toLuma8(head);
+    REQUIRE_FALSE(early.ok());
+    CHECK(early.error().kind == ErrorKind::Corrupt);
+    CHECK_THAT(early.error().message, Catch::Contains("cut short before its frame size"));
 }
 
 TEST_CASE("damaged and unknown frames are errors, not crashes", "[luma]") {
