@@ -120,7 +120,7 @@ Command addBenchCommand(CLI::App& app) {
     sub->add_flag("--accuracy", args->accuracy,
                   "Print the blur engine's accuracy on synthetic edges of known blur instead");
     sub->add_option("--seconds", args->seconds, "Time budget per measured case")
-        ->check(CLI::Range(0.01, 10.0))
+        ->check(secondsIn(0.0, 10.0, "0.5"))
         ->capture_default_str();
     return {sub, [args] { return runBench(*args); }};
 }

@@ -113,10 +113,10 @@ Command addRecordCommand(CLI::App& app) {
         ->required();
     sub->add_option("-o,--output", args->output, "New or empty directory for the recording")
         ->required();
-    auto* frames = sub->add_option("--frames", args->frames, "Stop after N frames")
-                       ->check(CLI::PositiveNumber);
+    auto* frames =
+        sub->add_option("--frames", args->frames, "Stop after N frames")->check(frameCount(1));
     auto* seconds = sub->add_option("--seconds", args->seconds, "Stop after S seconds")
-                        ->check(CLI::PositiveNumber);
+                        ->check(secondsIn(0.0, HUGE_VAL, "10"));
     frames->excludes(seconds);
     sub->footer(
         "Without --frames or --seconds, records until the source ends or Ctrl-C. Ctrl-C and "

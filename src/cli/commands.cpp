@@ -2,6 +2,7 @@
 #include "commands.h"
 
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <iostream>
 
@@ -26,16 +27,34 @@ int usageError(const std::string& command, const std::string& message) {
     return kExitUsage;
 }
 
-CLI::Validator frameCount() {
+CLI::Validator frameCount(uint64_t least) {
     return CLI::Validator(
-        [](const std::string& text) {
+        [least](const std::string& text) {
             uint64_t n = 0;
             const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
-            if (text.empty() || ec != std::errc() || end != text.data() + text.size())
-                return "'" + text + "' is not a frame count; give a whole number ≥ 0, e.g. 100";
+            if (text.empty() || ec != std::errc() || end != text.data() + text.size() || n < least)
+                return "'" + text + "' is not a frame count; give a whole number ≥ " +
+                       std::to_string(least) + ", e.g. 100";
             return std::string();
         },
         "N");
+}
+
+CLI::Validator secondsIn(double lo, double hi, const std::string& example) {
+    return CLI::Validator(
+        [lo, hi, example](const std::string& text) {
+            double s = 0.0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), s);
+            // Written so that a NaN fails too (no comparison with it holds).
+            const bool inside = s > lo && s <= hi;
+            if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !inside)
+                return "'" + text + "' is not a duration here; give seconds above " +
+                       CLI::detail::to_string(lo) +
+                       (std::isfinite(hi) ? " and at most " + CLI::detail::to_string(hi) : "") +
+                       ", e.g. " + example;
+            return std::string();
+        },
+        "S");
 }
 
 }  // namespace infocus::cli

@@ -34,9 +34,13 @@ int reportError(const std::string& command, const Error& error);
 /// Prints a usage error for @p command on stderr and returns kExitUsage.
 int usageError(const std::string& command, const std::string& message);
 
-/// Checks a --frames value: a whole number ≥ 0, read before it is converted to an unsigned
-/// count (where "-1" would wrap to 2^64 − 1 and never stop).
-CLI::Validator frameCount();
+/// Checks a --frames value: a whole number ≥ @p least, read before it is converted to an
+/// unsigned count (where "-1" would wrap to 2^64 − 1 and never stop).
+CLI::Validator frameCount(uint64_t least = 0);
+
+/// Checks a --seconds value: a number above @p lo and at most @p hi, with @p example in the
+/// message (CLI11's own range check prints its bounds to the last digit of DBL_MAX).
+CLI::Validator secondsIn(double lo, double hi, const std::string& example);
 
 // One entry point per command file (src/cli/cmd_NAME.cpp).
 Command addAnalyzeCommand(CLI::App& app);

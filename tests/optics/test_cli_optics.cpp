@@ -135,6 +135,11 @@ TEST_CASE("usage errors exit 2 and say what to type", "[cli]") {
     // CLI11's own errors are said by the command, with where its options are listed.
     usage("record sim: --frames 2", "infocus record: --output is required");
     usage("record sim: --frames 2", "Run 'infocus record --help' for the options.");
+    usage("record sim: -o /tmp/infocus-never-made --frames 0",
+          "--frames: '0' is not a frame count; give a whole number ≥ 1");
+    usage("record sim: -o /tmp/infocus-never-made --seconds -1",
+          "--seconds: '-1' is not a duration here; give seconds above 0, e.g. 10");
+    usage("bench --seconds nan", "give seconds above 0 and at most 10");
 }
 
 TEST_CASE("depth names the line and the field of a record it cannot read", "[cli]") {
