@@ -286,11 +286,14 @@ Result<std::vector<uint8_t>> readFile(const std::string& path) {
 }
 
 Result<Frame> loadImage(const std::string& path) {
+    // A file that cannot be decoded: @p what is wrong with it, and what to do.
+    const auto damaged = [&](const std::string& what) {
+        return makeError(ErrorKind::Corrupt,
+                         "image " + path + " " + what + "; copy or export it again");
+    };
     auto bytes = readFile(path);
     if (!bytes) return bytes.error();
-    if (bytes->empty())
-        return makeError(ErrorKind::Corrupt,
-                         "image " + path + " is empty (0 bytes); copy or export it again");
+    if (bytes->empty()) return damaged("is empty (0 bytes)");
     const bool jpeg = bytes->size() > 3 && (*bytes)[0] == 0xFF && (*bytes)[1] == 0xD8;
     if (jpeg) {
         tjhandle tj = tjInitDecompress();
@@ -299,14 +302,9 @@ Result<Frame> loadImage(const std::string& path) {
             tjDecompressHeader3(tj, bytes->data(), bytes->size(), &w, &h, &subsamp, &colorspace);
         const std::string why = rc != 0 ? tjGetErrorStr2(tj) : "";
         tjDestroy(tj);
-        if (rc != 0)
-            return makeError(ErrorKind::Corrupt, "image " + path + " is not a readable JPEG (" +
-                                                     why + "); copy or export it again");
+        if (rc != 0) return damaged("is not a readable JPEG (" + why + ")");
         // A file cut inside its header may still parse without a frame size.
-        if (w <= 0 || h <= 0)
-            return makeError(ErrorKind::Corrupt, "image " + path +
-                                                     " is a JPEG cut short before its frame "
-                                                     "size; copy or export it again");
+        if (w <= 0 || h <= 0) return damaged("is a JPEG cut short before its frame size");
         Frame f = makeCompressedFrame(PixelFormat::MJPEG, {w, h}, bytes->data(), bytes->size());
         f.origin = path;
         return f;
@@ -316,9 +314,7 @@ Result<Frame> loadImage(const std::string& path) {
         m = cv::imdecode(*bytes, cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
     } catch (const cv::Exception&) {
         // OpenCV's message is a source location and an assertion: name the file instead.
-        return makeError(ErrorKind::Corrupt, "image " + path +
-                                                 " cannot be decoded: OpenCV rejects it as "
-                                                 "damaged; copy or export it again");
+        return damaged("cannot be decoded: OpenCV rejects it as damaged");
     }
     if (m.empty())
         return makeError(

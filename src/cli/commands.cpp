@@ -27,12 +27,22 @@ int usageError(const std::string& command, const std::string& message) {
     return kExitUsage;
 }
 
+namespace {
+
+// Whether @p text, all of it, reads as a number into @p value.
+template <class T>
+bool readsWhole(const std::string& text, T& value) {
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    return !text.empty() && ec == std::errc() && end == text.data() + text.size();
+}
+
+}  // namespace
+
 CLI::Validator frameCount(uint64_t least) {
     return CLI::Validator(
         [least](const std::string& text) {
             uint64_t n = 0;
-            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
-            if (text.empty() || ec != std::errc() || end != text.data() + text.size() || n < least)
+            if (!readsWhole(text, n) || n < least)
                 return "'" + text + "' is not a frame count; give a whole number ≥ " +
                        std::to_string(least) + ", e.g. 100";
             return std::string();
@@ -44,10 +54,8 @@ CLI::Validator secondsIn(double lo, double hi, const std::string& example) {
     return CLI::Validator(
         [lo, hi, example](const std::string& text) {
             double s = 0.0;
-            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), s);
             // Written so that a NaN fails too (no comparison with it holds).
-            const bool inside = s > lo && s <= hi;
-            if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !inside)
+            if (!readsWhole(text, s) || !(s > lo && s <= hi))
                 return "'" + text + "' is not a duration here; give seconds above " +
                        CLI::detail::to_string(lo) +
                        (std::isfinite(hi) ? " and at most " + CLI::detail::to_string(hi) : "") +
