@@ -2,7 +2,6 @@
 // `infocus analyze`: per-region sharpness and blur width of every frame of a source, as JSONL or
 // CSV, written frame by frame so that nothing measured is lost when a later frame fails.
 #include <algorithm>
-#include <charconv>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -56,9 +55,7 @@ std::optional<BlurSearch> blurSearch(const std::string& text, const std::string&
         return BlurSearch{};
     }
     int n = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
-    if (ec != std::errc() || end != text.data() + text.size() || n < 1 || n > 65536)
-        return std::nullopt;
+    if (!readsWhole(text, n) || n < 1 || n > 65536) return std::nullopt;
     return BlurSearch{n, 0.0};
 }
 

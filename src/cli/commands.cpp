@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "commands.h"
 
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <iostream>
+
+#include "parse.h"
 
 namespace infocus::cli {
 
@@ -26,17 +27,6 @@ int usageError(const std::string& command, const std::string& message) {
               << "Run 'infocus " << command << " --help' for the options.\n";
     return kExitUsage;
 }
-
-namespace {
-
-// Whether @p text, all of it, reads as a number into @p value.
-template <class T>
-bool readsWhole(const std::string& text, T& value) {
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    return !text.empty() && ec == std::errc() && end == text.data() + text.size();
-}
-
-}  // namespace
 
 CLI::Validator frameCount(uint64_t least) {
     return CLI::Validator(

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "parse.h"
 
-#include <charconv>
 #include <vector>
 
 namespace infocus::cli {
@@ -15,9 +14,7 @@ std::optional<std::vector<int>> integers(std::string_view text, char sep) {
         const size_t pos = text.find(sep);
         const std::string_view part = text.substr(0, pos);
         int v = 0;
-        const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), v);
-        if (part.empty() || ec != std::errc() || end != part.data() + part.size() || v < 0)
-            return std::nullopt;
+        if (!readsWhole(part, v) || v < 0) return std::nullopt;
         out.push_back(v);
         if (pos == std::string_view::npos) return out;
         text.remove_prefix(pos + 1);
