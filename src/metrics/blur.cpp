@@ -580,6 +580,21 @@ constexpr size_t kMinEsfBins = 8;
 // spread c for the window's end pairs, whose step runs from or to a plateau level instead.
 struct PairTerms {
     std::vector<double> x, c, sums;
+    /// Makes the terms of @p bins due: they are computed when a fit first asks for them (get).
+    /// A fit that ends at its first window (the ESF's two ends within minContrast, or too few
+    /// bins) asks for none: on the 12 px bench frame a fifth of the ESFs' pixels are in such.
+    void defer(const BinList& bins, const Kernels& k) { src = &bins, kernels = &k, ready = false; }
+    /// The terms of the bins last deferred (whose BinList must still hold them), computed on the
+    /// first call.
+    const PairTerms& get() {
+        if (!ready) set(*src, *kernels), ready = true;
+        return *this;
+    }
+
+private:
+    const BinList* src = nullptr;
+    const Kernels* kernels = nullptr;
+    bool ready = false;
     void set(const BinList& bins, const Kernels& k) {
         const size_t n = bins.size;
         if (x.size() < n + detail::kEsfBinSlack)
@@ -652,7 +667,7 @@ size_t firstAtOrAfter(const BinList& bins, double x) {
 // 2 σ, the pixel's at 0.71 px). The bins' own spread is removed here, the pixel's 1/12 by the
 // caller. The window starts over the whole patch (@p halfWidth about its middle), or, with
 // @p startRadius > 0, over ±startRadius about the patch's line (u = 0).
-EsfFit fitEsf(const BinList& bins, const PairTerms& terms, double halfWidth, double minContrast,
+EsfFit fitEsf(const BinList& bins, PairTerms& terms, double halfWidth, double minContrast,
               double startRadius = 0.0) {
     EsfFit f;
     const size_t size = bins.size;
@@ -695,7 +710,7 @@ EsfFit fitEsf(const BinList& bins, const PairTerms& terms, double halfWidth, dou
         const double hi = nr > 0 ? sr / nr : value[ir];
         const double contrast = hi - lo;
         if (contrast < minContrast || ir <= il + 2) return f;
-        const Moments m = lineSpreadMoments(terms, il, ir, lo, hi, bins);
+        const Moments m = lineSpreadMoments(terms.get(), il, ir, lo, hi, bins);
         mu = m.mean;
         const double var = m.var;
         f.binVar = m.binVar;
@@ -729,7 +744,7 @@ EsfFit fitEsf(const BinList& bins, const PairTerms& terms, double halfWidth, dou
         const size_t ir = std::min(firstAtOrAfter(bins, wr), size - 1);
         f.varCore = f.varLsf;
         if (ir > il + 2 && f.contrast >= kCleanCnr * std::max(f.noise, 0.5)) {
-            const Moments m = lineSpreadMoments(terms, il, ir, f.lo, f.lo + f.contrast, bins);
+            const Moments m = lineSpreadMoments(terms.get(), il, ir, f.lo, f.lo + f.contrast, bins);
             f.varCore = m.var - m.binVar;
         }
     }
@@ -874,7 +889,7 @@ std::optional<LineFit> refitOnto(const Luma8& img, const Bounds& b, const Kernel
 // The ESF fit of @p bins over the whole patch and, when that gives no usable edge and
 // @p narrowStart is above 0, the fit of the same bins from a window of ±narrowStart about the
 // line (measureSegment says why), kept only where it gives one.
-EsfFit fitWithSecondStart(const BinList& bins, const PairTerms& terms, double halfWidth,
+EsfFit fitWithSecondStart(const BinList& bins, PairTerms& terms, double halfWidth,
                           double minContrast, double narrowStart) {
     const EsfFit f = fitEsf(bins, terms, halfWidth, minContrast);
     if (usable(f) || narrowStart <= 0.0) return f;
@@ -915,9 +930,10 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
             line = *fitted;
         }
         sampleEsf(img, b, k, patch, o.binPx, bins);
-        // The bin-pair terms once per ESF: every fit of these bins reads them.
+        // The bin-pair terms at most once per ESF: every fit of these bins that gets past its
+        // first window reads them.
         thread_local PairTerms terms;
-        if (bins.size >= kMinEsfBins) terms.set(bins, k);
+        terms.defer(bins, k);
         // The window started over the whole patch takes in, on crowded texture, the edges beside
         // this one, and may wander off it or lose its contrast. Where the probe's slab held the
         // derivative, the σ guessed from it bounds the edge's own line spread: the same bins are
@@ -1203,7 +1219,7 @@ std::optional<EdgeMeasurement> remeasureEdge(const Luma8& luma, const Bounds& sb
             refitted = true;
         }
         sampleEsf(luma, sb, k, patch, o.binPx, bins);
-        if (bins.size >= kMinEsfBins) terms.set(bins, k);
+        terms.defer(bins, k);
         const EsfFit f =
             fitWithSecondStart(bins, terms, patch.hw, o.minContrast, track.narrowStart);
         if (usable(f)) return makeMeasurement(patch, f, track.straight, o);
