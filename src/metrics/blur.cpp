@@ -582,7 +582,7 @@ struct PairTerms {
     std::vector<double> x, c, sums;
     /// Makes the terms of @p bins due: they are computed when a fit first asks for them (get).
     /// A fit that ends at its first window (the ESF's two ends within minContrast, or too few
-    /// bins) asks for none: on the 12 px bench frame a fifth of the ESFs' pixels are in such.
+    /// bins) asks for none: on the 12 px bench frame a fifth of the ESFs' pixels go to such fits.
     void defer(const BinList& bins, const Kernels& k) { src = &bins, kernels = &k, ready = false; }
     /// The terms of the bins last deferred (whose BinList must still hold them), computed on the
     /// first call.
