@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "infocus/image.h"
+
 namespace infocus::bench {
 
 /// One measured case: infocus's time per frame and, where one applies, the baseline's.
@@ -21,6 +23,9 @@ struct BenchRow {
     std::string note;                  ///< threads used, target, ...
     std::string focusOperator = {};    ///< sharpness rows: the operator timed ("teng", ...)
     std::optional<double> frameBlurPx = {};  ///< blur rows: the frame's true disc diameter, px
+    std::string input = {};              ///< rows timed on the user's frames: their source string
+    std::optional<int> inputFrame = {};  ///< and which of its frames (0 the first)
+    std::optional<int> regionsWithEdge = {};  ///< blur rows: regions whose blur was measured
 };
 
 /// Options shared by all benchmarks.
@@ -48,6 +53,14 @@ void benchSharpness(const BenchOptions& options, const RowSink& sink);
 void benchMjpeg(const BenchOptions& options, const RowSink& sink);
 /// Blur width (measureBlur) for every region of a 16×9 grid on a synthetic 1080p frame.
 void benchBlur(const BenchOptions& options, const RowSink& sink);
+
+/// The blur grid (16×9) on each of @p frames (8-bit luma, the frames of the source @p input)
+/// scaled to 1920×1080: a row `blur_image` for each, searched from scratch beside the scalar
+/// reference kernels; then a row `blur_image_stream`, the frames in order, each held for 10
+/// frames, through BlurTracker as `infocus analyze` reads a camera, beside a full search of every
+/// frame.
+void benchBlurImages(const BenchOptions& options, const std::string& input,
+                     const std::vector<Image<uint8_t>>& frames, const RowSink& sink);
 
 /// One line of the blur accuracy table: a PSF of known size measured at every edge angle.
 struct AccuracyRow {

@@ -1,10 +1,15 @@
 // SPDX-License-Identifier: MIT
 // Blur width for every region of a 16×9 grid on a realistic 1080p frame.
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
 #include "bench/bench.h"
 #include "infocus/blur.h"
+#include "infocus/metrics.h"
 #include "infocus/synth.h"
 
 namespace infocus::bench {
@@ -82,7 +87,109 @@ void benchBlurStream(const BenchOptions& options, const RowSink& sink,
                   "measureBlurRegions on every frame (every region searched)", note});
 }
 
+// Regions of @p blur whose blur was measured.
+int withEdge(const std::vector<BlurEstimate>& blur) {
+    return static_cast<int>(std::count_if(
+        blur.begin(), blur.end(), [](const BlurEstimate& b) { return b.sigmaPx.has_value(); }));
+}
+
+// @p image as a 1920×1080 frame: itself when it is one, else scaled by area averaging (each
+// output pixel the mean of the input pixels it covers, as a sensor's binning would).
+Image<uint8_t> toFullHd(const Image<uint8_t>& image) {
+    constexpr int w = 1920, h = 1080;
+    if (image.width() == w && image.height() == h) return image;
+    Image<uint8_t> out(w, h);
+    const cv::Mat src(image.height(), image.width(), CV_8UC1,
+                      const_cast<uint8_t*>(image.data()));  // read only
+    cv::Mat dst(h, w, CV_8UC1, out.data());
+    cv::resize(src, dst, dst.size(), 0, 0, cv::INTER_AREA);
+    return out;
+}
+
 }  // namespace
+
+void benchBlurImages(const BenchOptions& options, const std::string& input,
+                     const std::vector<Image<uint8_t>>& images, const RowSink& sink) {
+    const int w = 1920, h = 1080;
+    const std::vector<Rect> regions = gridRegions(w, h, 16, 9);
+    std::vector<Image<uint8_t>> frames;
+    for (const Image<uint8_t>& image : images)
+        frames.push_back(toFullHd(image));
+    BlurOptions scalar;
+    scalar.simd = false;
+    // Each frame searched from scratch, as a single photograph or a stream's first frame is,
+    // beside the scalar reference kernels (the same sums, bit for bit).
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const Luma8 view = frames[i].view();
+        int measured = 0, baselineMeasured = 0;
+        const double ms = medianMs([&] { measured = withEdge(measureBlurRegions(view, regions)); },
+                                   options.secondsPerCase);
+        const double baseMs = medianMs(
+            [&] { baselineMeasured = withEdge(measureBlurRegions(view, regions, scalar)); },
+            options.secondsPerCase);
+        char note[160];
+        std::snprintf(note, sizeof note,
+                      "16x9 regions, %d with an edge, one thread, searched from scratch; %dx%d",
+                      measured, images[i].width(), images[i].height());
+        std::string text = note;
+        if (images[i].width() != w || images[i].height() != h) text += " scaled to 1920x1080";
+        if (baselineMeasured != measured)
+            text +=
+                " (the scalar run found " + std::to_string(baselineMeasured) + ": a kernel bug)";
+        BenchRow row{"blur_image", w, h, ms, baseMs, "the same engine, scalar reference kernels",
+                     text};
+        row.input = input;
+        row.inputFrame = static_cast<int>(i);
+        row.regionsWithEdge = measured;
+        sink(row);
+    }
+    if (frames.empty()) return;
+    // A stepped focus sweep that settles: each frame held for kHold frames (a camera's frames
+    // would also differ by their noise), read as `infocus analyze` reads a camera. The first
+    // frame, a full search, is left out, as in blur_stream; the baseline searches every frame.
+    constexpr int kHold = 10;
+    using Clock = std::chrono::steady_clock;
+    const auto run = [&](auto&& measure, std::vector<double>& times, long& measured) {
+        for (size_t i = 0; i < frames.size(); ++i)
+            for (int k = 0; k < kHold; ++k) {
+                const auto t0 = Clock::now();
+                const int n = withEdge(measure(frames[i].view()));
+                const double ms =
+                    std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+                if (i == 0 && k == 0) continue;
+                times.push_back(ms);
+                measured += n;
+            }
+        std::sort(times.begin(), times.end());
+    };
+    BlurTracker tracker({}, kLiveBlurSearchesPerFrame, kLiveBlurSearchBudgetS);
+    std::vector<double> tracked, searched;
+    long trackedRegions = 0, searchedRegions = 0;
+    run([&](const Luma8& v) { return tracker.measure(v, regions); }, tracked, trackedRegions);
+    run([&](const Luma8& v) { return measureBlurRegions(v, regions); }, searched, searchedRegions);
+    const auto at = [](const std::vector<double>& t, double q) {
+        return t[std::min(t.size() - 1, static_cast<size_t>(q * static_cast<double>(t.size())))];
+    };
+    const double n = static_cast<double>(tracked.size());
+    char note[320];
+    std::snprintf(note, sizeof note,
+                  "16x9 regions, one thread, BlurTracker (%d searches within %.1f ms a frame, as "
+                  "analyze reads a camera); %zu frame(s) held %d frames each, the first left out: "
+                  "90 %% of frames within %.3f ms, slowest %.3f ms; a frame: %.1f regions with an "
+                  "edge (searching every frame: %.1f, slowest %.3f ms)",
+                  kLiveBlurSearchesPerFrame, kLiveBlurSearchBudgetS * 1e3, frames.size(), kHold,
+                  at(tracked, 0.9), tracked.back(), double(trackedRegions) / n,
+                  double(searchedRegions) / n, searched.back());
+    BenchRow row{"blur_image_stream",
+                 w,
+                 h,
+                 at(tracked, 0.5),
+                 at(searched, 0.5),
+                 "measureBlurRegions on every frame (every region searched)",
+                 note};
+    row.input = input;
+    sink(row);
+}
 
 void benchBlur(const BenchOptions& options, const RowSink& sink) {
     const int w = 1920, h = 1080, cols = 16, rows = 9;
@@ -130,6 +237,7 @@ void benchBlur(const BenchOptions& options, const RowSink& sink) {
                      "16x9 regions, " + std::to_string(measured) + " with an edge, one thread" +
                          blurNote + agree};
         row.frameBlurPx = discPx;
+        row.regionsWithEdge = measured;
         sink(row);
     }
     benchBlurStream(options, sink, scene, regions);

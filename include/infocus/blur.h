@@ -58,6 +58,12 @@ BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& 
 std::vector<BlurEstimate> measureBlurRegions(const Luma8& luma, std::span<const Rect> rois,
                                              const BlurOptions& options = {});
 
+/// Regions a live camera's frame searches afresh (`infocus analyze --blur-search auto`), and the
+/// seconds those searches may take: a 1080p frame's blur then keeps up with the frame rate.
+inline constexpr int kLiveBlurSearchesPerFrame = 16;
+/// See kLiveBlurSearchesPerFrame.
+inline constexpr double kLiveBlurSearchBudgetS = 1.5e-3;
+
 /// measureBlurRegions over a stream of frames, at a bounded cost a frame. Each frame, a region's
 /// edges are measured again where they were found (their line fitted again only where that
 /// fails), and only a few regions search afresh, at most @p searchesPerFrame and, when

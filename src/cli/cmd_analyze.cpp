@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "infocus/analysis.h"
+#include "infocus/blur.h"
 #include "infocus/metrics.h"
 #include "infocus/source.h"
 #include "parse.h"
@@ -30,13 +31,6 @@ struct AnalyzeArgs {
     std::string blurSearch = "auto";
 };
 
-// Regions searched afresh a frame for --blur-search auto, and the time they may take: a live
-// camera's stream is tracked (BlurTracker) so that the blur keeps up with the frame rate (on
-// frames far out of focus one search costs as much as all the other regions' edges);
-// recordings, files and sim: are searched in full on every frame, for the best reading of each.
-constexpr int kLiveBlurSearches = 16;
-constexpr double kLiveBlurSearchBudgetS = 1.5e-3;
-
 // What --blur-search asks of AnalysisOptions: the regions searched afresh a frame (0: all) and
 // the seconds their searches may take (0: no limit).
 struct BlurSearch {
@@ -49,9 +43,13 @@ struct BlurSearch {
 std::optional<BlurSearch> blurSearch(const std::string& text, const std::string& source) {
     if (text == "all") return BlurSearch{};
     if (text == "auto") {
+        // A live camera's stream is tracked (BlurTracker) so that the blur keeps up with the
+        // frame rate (on frames far out of focus one search costs as much as all the other
+        // regions' edges); recordings, files and sim: are searched in full on every frame, for
+        // the best reading of each.
         const auto spec = parseSourceSpec(source);
         if (spec && (spec->kind == "v4l2" || spec->kind == "libcamera"))
-            return BlurSearch{kLiveBlurSearches, kLiveBlurSearchBudgetS};
+            return BlurSearch{kLiveBlurSearchesPerFrame, kLiveBlurSearchBudgetS};
         return BlurSearch{};
     }
     int n = 0;

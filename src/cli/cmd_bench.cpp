@@ -2,12 +2,15 @@
 // `infocus bench`: measured speed of this machine, infocus beside a baseline from the same run.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 
 #include "bench/bench.h"
 #include "commands.h"
+#include "infocus/luma.h"
+#include "infocus/source.h"
 
 namespace infocus::cli {
 
@@ -17,7 +20,46 @@ struct BenchArgs {
     bool json = false;
     bool accuracy = false;
     double seconds = 0.25;
+    bool imagesGiven = false;  ///< --images: time the blur engine on this source's frames instead
+    std::string images;        ///< the source string given to --images
+    uint64_t frames = 32;      ///< at most this many of them (0: all)
 };
+
+// Up to @p maxFrames frames of @p source (0: all) as 8-bit luma, copied out of the source's
+// buffers. A damaged frame is skipped with a message, as `infocus analyze` does; @p damaged
+// counts them.
+Result<std::vector<Image<uint8_t>>> readFrames(const std::string& source, uint64_t maxFrames,
+                                               uint64_t& damaged) {
+    auto src = openSource(source);
+    if (!src) return src.error();
+    FrameSource& s = **src;
+    if (auto st = s.start(); !st) return st.error();
+    LumaConverter converter;
+    std::vector<Image<uint8_t>> frames;
+    Status failed;
+    while (maxFrames == 0 || frames.size() < maxFrames) {
+        auto frame = s.next();
+        Result<Luma8> luma = frame ? converter.toLuma8(*frame) : Result<Luma8>(frame.error());
+        if (!luma && luma.error().kind == ErrorKind::Corrupt) {
+            ++damaged;
+            std::cerr << "infocus bench: skipped a damaged frame: " << luma.error().message << "\n";
+            continue;
+        }
+        if (!luma) {
+            if (luma.error().kind != ErrorKind::EndOfStream) failed = luma.error();
+            break;
+        }
+        Image<uint8_t> copy(luma->width, luma->height);
+        for (int y = 0; y < luma->height; ++y)
+            std::copy_n(luma->row(y), luma->width, copy.row(y));
+        frames.push_back(std::move(copy));
+    }
+    s.stop();
+    if (!failed) return failed.error();
+    if (frames.empty())
+        return makeError(ErrorKind::Corrupt, "source '" + source + "' delivered no frame");
+    return frames;
+}
 
 // The blur engine's accuracy table: true vs measured width on synthetic edges.
 int runAccuracyTable(bool json) {
@@ -72,13 +114,22 @@ int runAccuracyTable(bool json) {
 }
 
 int runBench(const BenchArgs& args) {
+    if (args.accuracy && args.imagesGiven)
+        return usageError("bench", "--accuracy and --images each choose what to run; give one");
     if (args.accuracy) return runAccuracyTable(args.json);
     bench::BenchOptions options;
     options.secondsPerCase = args.seconds;
+    std::vector<Image<uint8_t>> frames;
+    uint64_t damaged = 0;
+    if (args.imagesGiven) {
+        auto read = readFrames(args.images, args.frames, damaged);
+        if (!read) return reportError("bench", read.error());
+        frames = std::move(*read);
+    }
     if (!args.json)
-        std::printf("%-14s %11s %12s %12s %9s  %s\n", "what", "size", "infocus ms", "baseline ms",
+        std::printf("%-17s %11s %12s %12s %9s  %s\n", "what", "size", "infocus ms", "baseline ms",
                     "speedup", "baseline");
-    bench::runAll(options, [&](const bench::BenchRow& row) {
+    const auto print = [&](const bench::BenchRow& row) {
         if (args.json) {
             nlohmann::ordered_json j;
             j["what"] = row.what;
@@ -92,6 +143,9 @@ int runBench(const BenchArgs& args) {
             }
             if (!row.focusOperator.empty()) j["operator"] = row.focusOperator;
             if (row.frameBlurPx) j["frame_blur_width_px"] = *row.frameBlurPx;
+            if (row.regionsWithEdge) j["regions_with_edge"] = *row.regionsWithEdge;
+            if (!row.input.empty()) j["input"] = row.input;
+            if (row.inputFrame) j["input_frame"] = *row.inputFrame;
             if (!row.note.empty()) j["note"] = row.note;
             std::cout << j.dump() << std::endl;
             return;
@@ -99,14 +153,30 @@ int runBench(const BenchArgs& args) {
         char size[32];
         std::snprintf(size, sizeof size, "%dx%d", row.width, row.height);
         if (row.baselineMs)
-            std::printf("%-14s %11s %12.3f %12.3f %8.1fx  %s", row.what.c_str(), size, row.ms,
+            std::printf("%-17s %11s %12.3f %12.3f %8.1fx  %s", row.what.c_str(), size, row.ms,
                         *row.baselineMs, *row.baselineMs / row.ms, row.baseline.c_str());
         else
-            std::printf("%-14s %11s %12.3f %12s %9s  -", row.what.c_str(), size, row.ms, "-", "-");
-        if (!row.note.empty()) std::printf(" (%s)", row.note.c_str());
+            std::printf("%-17s %11s %12.3f %12s %9s  -", row.what.c_str(), size, row.ms, "-", "-");
+        if (row.inputFrame)
+            std::printf(" (frame %d of %s; %s)", *row.inputFrame, row.input.c_str(),
+                        row.note.c_str());
+        else if (!row.input.empty())
+            std::printf(" (%s; %s)", row.input.c_str(), row.note.c_str());
+        else if (!row.note.empty())
+            std::printf(" (%s)", row.note.c_str());
         std::printf("\n");
         std::fflush(stdout);
-    });
+    };
+    if (frames.empty()) {
+        bench::runAll(options, print);
+        return 0;
+    }
+    bench::benchBlurImages(options, args.images, frames, print);
+    if (damaged) {
+        std::cerr << "infocus bench: " << damaged << " damaged frame(s) skipped, " << frames.size()
+                  << " timed\n";
+        return kExitFailure;
+    }
     return 0;
 }
 
@@ -122,7 +192,20 @@ Command addBenchCommand(CLI::App& app) {
     sub->add_option("--seconds", args->seconds, "Time budget per measured case")
         ->check(secondsIn(0.0, 10.0, "0.5"))
         ->capture_default_str();
-    return {sub, [args] { return runBench(*args); }};
+    CLI::Option* images =
+        sub->add_option(
+               "--images", args->images,
+               "Time the blur engine on the frames of SOURCE (images, a directory or glob of "
+               "them, a recording, a camera), each scaled to 1920x1080, instead")
+            ->type_name("SOURCE");
+    sub->add_option("--frames", args->frames, "At most N frames of --images (0: all)")
+        ->check(frameCount())
+        ->capture_default_str()
+        ->needs(images);
+    return {sub, [args, images] {
+                args->imagesGiven = images->count() > 0;
+                return runBench(*args);
+            }};
 }
 
 }  // namespace infocus::cli

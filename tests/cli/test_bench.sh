@@ -36,6 +36,7 @@ for b in blur:
     # The scalar run (the same sums) finds edges in the same regions.
     assert "kernel bug" not in b["note"], b["note"]
     measured = int(b["note"].split(",")[1].split()[0])
+    assert b["regions_with_edge"] == measured, b
     # The bench frame is textured all over: near focus every one of the 144 regions but a
     # handful has an edge; at 12 px the smaller leaves blur into each other and some regions
     # hold no edge with two plateaus.
