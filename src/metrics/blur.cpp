@@ -320,52 +320,81 @@ CandidateGrid candidateGrid(const Luma8& img, const Bounds& roi, const BlurOptio
             step,         x0,           y0,           peak2,    minM};
 }
 
-// The strongest points of a candidate grid, handed out strongest first (CandidateList::at). A
-// list of up to kMaxOrderKeys keys comes in order; the keys of a longer one are put in order a
-// block at a time as they are asked for (a region looks at about 20 of its 64).
+// The point of @p grid that the candidate key @p key names.
+Candidate candidateOf(const CandidateGrid& grid, uint64_t key) {
+    const size_t q = detail::candidateIndex(key);
+    return {grid.x0 + static_cast<int>(q % grid.perRow) * grid.step,
+            grid.y0 + static_cast<int>(q / grid.perRow) * grid.step,
+            grid.gx[q] / 8.0f,
+            grid.gy[q] / 8.0f,
+            static_cast<float>(grid.m[q]) * (1.0f / 64.0f),
+            q};
+}
+
+// Points of a candidate grid, handed out strongest first (CandidateList::at): the strongest
+// `strongest()` of the grid's passing points, or, after a region has looked at those, the next
+// weaker ones that oneSided does not pass over (weakerCandidates). A list of up to kMaxOrderKeys
+// keys comes in order; the keys of a longer one are put in order a block at a time as they are
+// asked for (a region looks at about 20 of its 64), each block as long as all the blocks before
+// it, so that a list walked to its end is ordered in O(n log n).
 class CandidateList {
 public:
     CandidateList() = default;
-    // The @p size strongest of the @p listed keys @p keys (the grid's points) of @p grid, the
-    // first @p ordered of them already in order.
+    // The @p size keys @p keys (of @p listed, the first @p ordered of them already in order) of
+    // @p grid's @p strongest strongest points, the least of which is @p lowest; @p judged when
+    // oneSided has passed them.
     CandidateList(const CandidateGrid& grid, uint64_t* keys, size_t listed, size_t size,
-                  size_t ordered)
-        : grid_(&grid), keys_(keys), listed_(listed), size_(size), ordered_(ordered) {}
+                  size_t ordered, size_t strongest, uint64_t lowest, bool judged)
+        : grid_(&grid),
+          keys_(keys),
+          listed_(listed),
+          size_(size),
+          ordered_(ordered),
+          strongest_(strongest),
+          lowest_(lowest),
+          judged_(judged) {}
     size_t size() const { return size_; }
+    // How many of the grid's strongest points the list was drawn from, and the least of them.
+    size_t strongest() const { return strongest_; }
+    uint64_t lowest() const { return lowest_; }
+    // True when every point handed out has passed oneSided already.
+    bool judged() const { return judged_; }
     // The @p i-th strongest (i < size()).
     Candidate at(size_t i) {
         while (i >= ordered_) {
             // Keys are unique (they hold the grid index), so the block after ordered_ is the
             // same whichever way the rest was left: the order is exact.
-            const size_t next = std::min(size_, ordered_ + kBlock);
+            const size_t next = std::min(size_, ordered_ + std::max(kBlock, ordered_));
             std::nth_element(keys_ + ordered_, keys_ + next, keys_ + listed_, std::greater<>());
             std::sort(keys_ + ordered_, keys_ + next, std::greater<>());
             ordered_ = next;
         }
-        const size_t q = detail::candidateIndex(keys_[i]);
-        return {grid_->x0 + static_cast<int>(q % grid_->perRow) * grid_->step,
-                grid_->y0 + static_cast<int>(q / grid_->perRow) * grid_->step,
-                grid_->gx[q] / 8.0f,
-                grid_->gy[q] / 8.0f,
-                static_cast<float>(grid_->m[q]) * (1.0f / 64.0f),
-                q};
+        return candidateOf(*grid_, keys_[i]);
     }
 
 private:
     static constexpr size_t kBlock = 16;
     const CandidateGrid* grid_ = nullptr;
     uint64_t* keys_ = nullptr;
-    size_t listed_ = 0, size_ = 0, ordered_ = 0;
+    size_t listed_ = 0, size_ = 0, ordered_ = 0, strongest_ = 0;
+    uint64_t lowest_ = 0;
+    bool judged_ = false;
 };
 
-// The @p cap strongest passing points of @p grid, strongest first (the list lives until the next
-// call on this thread). A point is a 64-bit key, |g|² above its complemented grid index: the
-// larger key is the stronger point, equal gradients in scan order, so a longer list starts with
-// a shorter one. Counting the points above a level (8 at a time) finds, by bisection over 256
-// levels up to the peak, the highest level with at least cap points above it; only those points
-// (a few dozen of thousands) are then listed.
-CandidateList strongestCandidates(const CandidateGrid& grid, const Kernels& k, size_t cap) {
-    if (grid.size == 0) return {};
+// Keys of a candidate grid's strongest points, in no order: at least the m = min(cap, passing)
+// strongest, and those the only ones above the least of them.
+struct ListedKeys {
+    uint64_t* keys = nullptr;
+    size_t listed = 0, m = 0;
+};
+
+// The keys of the @p cap strongest passing points of @p grid (they live until the next call on
+// this thread). A point is a 64-bit key, |g|² above its complemented grid index: the larger key
+// is the stronger point, equal gradients in scan order, so a longer list starts with a shorter
+// one. Counting the points above a level (8 at a time) finds, by bisection over 256 levels up to
+// the peak, the highest level with at least cap points above it; only those points (a few dozen
+// of thousands) are then listed.
+ListedKeys listStrongest(const CandidateGrid& grid, const Kernels& k, size_t cap) {
     thread_local std::vector<uint64_t> keys;
     if (keys.size() < grid.size) keys.resize(grid.size);
     int shift = 0;
@@ -394,35 +423,73 @@ CandidateList strongestCandidates(const CandidateGrid& grid, const Kernels& k, s
     const size_t listed = count > m ? k.listLevelsAtLeast(levels.data(), shift, grid.m, grid.size,
                                                           lowest, keys.data())
                                     : k.listAtLeast(grid.m, grid.size, lowest, keys.data());
-    // The usual list (64 of some 60–100 listed) is put in order at once, without the branches
-    // of a selection and a sort: those took 5 % of a frame's time.
-    if (listed <= detail::kMaxOrderKeys) {
-        thread_local std::vector<uint64_t> ordered(detail::kMaxOrderKeys);
-        k.orderKeys(keys.data(), listed, m, ordered.data());
-        return CandidateList(grid, ordered.data(), m, m, m);
-    }
-    return CandidateList(grid, keys.data(), listed, m, 0);
+    return {keys.data(), listed, m};
 }
 
-// Radius (px) of the square about a seed in which oneSided weighs the gradients, and the least
-// value a seed needs to be measured.
-constexpr double kOneSidedRadiusPx = 8.0, kMinOneSided = 0.5;
+// The @p cap strongest passing points of @p grid, strongest first (the list lives until the next
+// call on this thread).
+CandidateList strongestCandidates(const CandidateGrid& grid, const Kernels& k, size_t cap) {
+    if (grid.size == 0) return {};
+    const ListedKeys l = listStrongest(grid, k, cap);
+    if (l.m == 0) return {};
+    // The usual list (64 of some 60–100 listed) is put in order at once, without the branches
+    // of a selection and a sort: those took 5 % of a frame's time.
+    if (l.listed <= detail::kMaxOrderKeys) {
+        thread_local std::vector<uint64_t> ordered(detail::kMaxOrderKeys);
+        k.orderKeys(l.keys, l.listed, l.m, ordered.data());
+        return CandidateList(grid, ordered.data(), l.m, l.m, l.m, l.m, ordered[l.m - 1], false);
+    }
+    // The m strongest first, the least of them at m − 1; their order comes as they are asked for.
+    std::nth_element(l.keys, l.keys + (l.m - 1), l.keys + l.listed, std::greater<>());
+    return CandidateList(grid, l.keys, l.listed, l.m, 0, l.m, l.keys[l.m - 1], false);
+}
 
-// How one-sided the gradient about seed @p c is: Σ g·n / Σ |g·n| over the grid points within
-// kOneSidedRadiusPx, n the seed's gradient. A lone edge gives about 1. A bar, a thin line or
-// crowded texture, whose two sides lie within a few pixels, gives gradients of both signs; its
-// ESF has no two plateaus and the fit would lose its contrast after all the pixel work.
-double oneSided(const CandidateGrid& g, const Candidate& c, const Kernels& k) {
-    const int r = std::max(1, static_cast<int>(std::lround(kOneSidedRadiusPx / g.step)));
-    const int qx = static_cast<int>(c.gridIndex % g.perRow);
-    const int qy = static_cast<int>(c.gridIndex / g.perRow);
-    const int32_t nx = g.gx[c.gridIndex], ny = g.gy[c.gridIndex];
+// Radius (px, a whole number) of the square about a seed in which oneSided weighs the gradients,
+// and the least value a seed needs to be measured.
+constexpr int kOneSidedRadiusPx = 8;
+constexpr double kMinOneSided = 0.5;
+
+// Whether the gradient about the grid point @p q is one-sided: Σ g·n / Σ |g·n| ≥ kMinOneSided
+// over the grid points within kOneSidedRadiusPx, n the point's gradient. A lone edge gives about
+// 1. A bar, a thin line or crowded texture, whose two sides lie within a few pixels, gives
+// gradients of both signs; its ESF has no two plateaus and the fit would lose its contrast after
+// all the pixel work.
+bool oneSided(const CandidateGrid& g, size_t q, const Kernels& k) {
+    // The radius in grid steps, rounded half away from zero (integers: no lround a seed).
+    const int r = std::max(1, (2 * kOneSidedRadiusPx + g.step) / (2 * g.step));
+    const int qx = static_cast<int>(q % g.perRow);
+    const int qy = static_cast<int>(q / g.perRow);
+    const int32_t nx = g.gx[q], ny = g.gy[q];
     const int x0 = std::max(0, qx - r), y0 = std::max(0, qy - r);
     const size_t first = static_cast<size_t>(y0) * g.perRow + x0;
     int64_t along = 0, magnitude = 0;
     k.oneSidedSums(g.gx + first, g.gy + first, g.perRow, std::min(g.perRow - 1, qx + r) - x0 + 1,
                    std::min(g.rows - 1, qy + r) - y0 + 1, nx, ny, &along, &magnitude);
-    return magnitude > 0 ? static_cast<double>(along) / static_cast<double>(magnitude) : 0.0;
+    // The sums are integers (64-bit, far from overflow), so the ratio is compared without a
+    // division: along / magnitude ≥ ½ exactly when 2·along ≥ magnitude.
+    static_assert(kMinOneSided == 0.5);
+    return magnitude > 0 && 2 * along >= magnitude;
+}
+
+// The points among the @p cap strongest of @p grid that are weaker than @p below (the least of the
+// list a region has looked at) and that oneSided does not pass over, strongest first. A region
+// that asks for them has passed over all its stronger seeds (traces, text, a fine chart's bars),
+// and may pass over most of these too: judging them before they are put in order spares it the
+// ordering of seeds it would skip (on a chart of fine bars, every one). oneSided depends on the
+// grid alone, so the region measures the seeds it would have measured, in the same order.
+CandidateList weakerCandidates(const CandidateGrid& grid, const Kernels& k, size_t cap,
+                               uint64_t below) {
+    if (grid.size == 0) return {};
+    const ListedKeys l = listStrongest(grid, k, cap);
+    if (l.m == 0) return {};
+    if (l.listed > l.m)
+        std::nth_element(l.keys, l.keys + (l.m - 1), l.keys + l.listed, std::greater<>());
+    const uint64_t lowest = *std::min_element(l.keys, l.keys + l.m);
+    size_t kept = 0;
+    for (size_t j = 0; j < l.m; ++j)
+        if (l.keys[j] < below && oneSided(grid, detail::candidateIndex(l.keys[j]), k))
+            l.keys[kept++] = l.keys[j];
+    return CandidateList(grid, l.keys, kept, kept, 0, l.m, lowest, true);
 }
 
 // The rows of @p p inside @p b as kernel spans (scratch reused across calls): for every row
@@ -1150,6 +1217,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     size_t cap = 64;
     const CandidateGrid grid = candidateGrid(luma, s.r, options, kernels);
     CandidateList cands = strongestCandidates(grid, kernels, cap);
+    size_t i = 0;  // the next of cands
     std::vector<Patch> used;
     int attempts = 0;
     // A seed that passes oneSided usually gives an edge: a region gets maxEdges attempts, and one
@@ -1160,17 +1228,21 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     // rule takes a sixth of a frame's instructions without losing a region (docs/blur.md).
     const int extra = (s.r.x1 - s.r.x0) * (s.r.y1 - s.r.y0) / (128 * 128);
     bool haveUsable = false;
-    for (size_t i = 0;; ++i) {
+    for (;;) {
         if (static_cast<int>(out.size()) >= options.maxEdges ||
             attempts >= options.maxEdges + extra - (haveUsable ? 1 : 0))
             break;
         if (i == cands.size()) {
-            if (cands.size() < cap || !out.empty()) break;
+            // Every point listed, or an edge found: the region is done.
+            if (cands.strongest() < cap || !out.empty()) break;
+            const size_t looked = cands.strongest();
             cap *= 4;
-            cands = strongestCandidates(grid, kernels, cap);
-            if (i == cands.size()) break;
+            cands = weakerCandidates(grid, kernels, cap, cands.lowest());
+            i = 0;
+            if (cands.strongest() == looked) break;
+            continue;
         }
-        const Candidate c = cands.at(i);
+        const Candidate c = cands.at(i++);
         next.fetch(kPrefetchRowsPerSeed);
         // Skip seeds on an edge already measured (or already rejected).
         const double px = c.x + 0.5, py = c.y + 0.5;
@@ -1180,7 +1252,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
         if (covered) continue;
         // Seeds on bars, lines and clutter are passed over (the scan goes on to weaker ones); the
         // test reads 81 grid points where a measurement walks a thousand pixels twice.
-        if (oneSided(grid, c, kernels) < kMinOneSided) continue;
+        if (!cands.judged() && !oneSided(grid, c.gridIndex, kernels)) continue;
         ++attempts;
         Patch edge{};
         EdgeTrack track;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "infocus/blur.h"
+#include "infocus/metrics.h"
 #include "infocus/synth.h"
 #include "src/metrics/blur_kernels.h"
 #include "src/metrics/sharpness_kernels.h"
@@ -148,6 +149,37 @@ TEST_CASE("thin lines stronger than the region's edge do not use up its attempts
     const BlurEstimate b = measureBlur(img.view(), all);
     REQUIRE(b.discDiameterPx.has_value());
     CHECK(*b.discDiameterPx == Approx(3.0).epsilon(0.05));
+}
+
+TEST_CASE("bars too fine for an edge's two plateaus give no width; wider bars read theirs",
+          "[blur]") {
+    // Bars of period P at 5°, blurred by a 4 px disc. An edge needs a plateau each side of its
+    // spread (about ±(4.5 σ + 3.5 px), σ = 1 px here), so at P = 8 px no edge can be measured and
+    // every region must say so (null, confidence 0) rather than read the bars' clutter; at
+    // P = 32 px the plateaus are 16 px wide and every region reads the disc. At P = 8 every
+    // seed is passed over, so each region walks its whole candidate list (the weaker candidates
+    // judged before they are ordered).
+    const auto frame = [](double period) {
+        synth::SharpCanvas canvas = synth::makeCanvas(480, 270, 2);
+        const double c = std::cos(5.0 * M_PI / 180.0), s = std::sin(5.0 * M_PI / 180.0);
+        synth::paint(canvas, [=](double x, double y) {
+            return (static_cast<long>(std::floor((x * c + y * s) / (period / 2.0))) & 1) ? 220.0f
+                                                                                         : 30.0f;
+        });
+        return synth::toLuma8(
+            synth::renderSharp(canvas, {synth::Psf::disc(4.0), 2, 1.0, 5}).pixels);
+    };
+    const std::vector<Rect> grid = gridRegions(480, 270, 4, 3);
+    const auto fine = frame(8.0);
+    for (const BlurEstimate& b : measureBlurRegions(fine.view(), grid)) {
+        CHECK_FALSE(b.discDiameterPx.has_value());
+        CHECK(b.confidence == 0.0);
+    }
+    const auto wide = frame(32.0);
+    for (const BlurEstimate& b : measureBlurRegions(wide.view(), grid)) {
+        REQUIRE(b.discDiameterPx.has_value());
+        CHECK(*b.discDiameterPx == Approx(4.0).epsilon(0.05));
+    }
 }
 
 TEST_CASE("a slanted chequerboard reads its blur in every region", "[blur]") {
