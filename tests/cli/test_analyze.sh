@@ -2,14 +2,7 @@
 # `infocus analyze` end to end: the JSONL contract, CSV and table output, a damaged image in a
 # sequence (skipped, reported, the rest analysed, non-zero exit), and usage errors (exit 2).
 # Usage: test_analyze.sh PATH_TO_INFOCUS SHARED_DATA_DIR
-set -u
-bin=${1:?path to infocus}
-data=${2:?shared data dir}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0 fail=0
-ok() { pass=$((pass + 1)); }
-bad() { echo "FAIL: $*"; fail=$((fail + 1)); }
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
 
 # Three frames in name order: two real photographs around a truncated copy of one.
 src="$data/focus-stack/depthmap"

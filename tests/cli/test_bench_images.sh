@@ -4,14 +4,7 @@
 # a damaged frame (skipped, reported, the rest timed, non-zero exit), and usage errors (exit 2).
 # Timings are printed, never judged.
 # Usage: test_bench_images.sh PATH_TO_INFOCUS SHARED_DATA_DIR
-set -u
-bin=${1:?path to infocus}
-data=${2:?shared data dir}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0 fail=0
-ok() { pass=$((pass + 1)); }
-bad() { echo "FAIL: $*"; fail=$((fail + 1)); }
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
 
 # The pcb stack's seven photographs (2048x1536, scaled to 1920x1080 for the timing).
 out=$("$bin" bench --images "$data/focus-stack/pcb/pcb_*.jpg" --seconds 0.01 --json 2>"$tmp/err")
