@@ -320,17 +320,6 @@ CandidateGrid candidateGrid(const Luma8& img, const Bounds& roi, const BlurOptio
             step,         x0,           y0,           peak2,    minM};
 }
 
-// The point of @p grid that the candidate key @p key names.
-Candidate candidateOf(const CandidateGrid& grid, uint64_t key) {
-    const size_t q = detail::candidateIndex(key);
-    return {grid.x0 + static_cast<int>(q % grid.perRow) * grid.step,
-            grid.y0 + static_cast<int>(q / grid.perRow) * grid.step,
-            grid.gx[q] / 8.0f,
-            grid.gy[q] / 8.0f,
-            static_cast<float>(grid.m[q]) * (1.0f / 64.0f),
-            q};
-}
-
 // Points of a candidate grid, handed out strongest first (CandidateList::at): the strongest
 // `strongest()` of the grid's passing points, or, after a region has looked at those, the next
 // weaker ones that oneSided does not pass over (weakerCandidates). A list of up to kMaxOrderKeys
@@ -369,7 +358,13 @@ public:
             std::sort(keys_ + ordered_, keys_ + next, std::greater<>());
             ordered_ = next;
         }
-        return candidateOf(*grid_, keys_[i]);
+        const size_t q = detail::candidateIndex(keys_[i]);
+        return {grid_->x0 + static_cast<int>(q % grid_->perRow) * grid_->step,
+                grid_->y0 + static_cast<int>(q / grid_->perRow) * grid_->step,
+                grid_->gx[q] / 8.0f,
+                grid_->gy[q] / 8.0f,
+                static_cast<float>(grid_->m[q]) * (1.0f / 64.0f),
+                q};
     }
 
 private:
@@ -386,6 +381,14 @@ private:
 struct ListedKeys {
     uint64_t* keys = nullptr;
     size_t listed = 0, m = 0;
+    // Puts the m strongest first (in no order) and returns the least of them (m > 0). When all
+    // listed keys are the m, a scan finds it: a selection over a region's whole grid (a walk on
+    // noise lists every point) costs a tenth of such a frame.
+    uint64_t selectStrongest() const {
+        if (listed == m) return *std::min_element(keys, keys + m);
+        std::nth_element(keys, keys + (m - 1), keys + listed, std::greater<>());
+        return keys[m - 1];
+    }
 };
 
 // The keys of the @p cap strongest passing points of @p grid (they live until the next call on
@@ -439,9 +442,9 @@ CandidateList strongestCandidates(const CandidateGrid& grid, const Kernels& k, s
         k.orderKeys(l.keys, l.listed, l.m, ordered.data());
         return CandidateList(grid, ordered.data(), l.m, l.m, l.m, l.m, ordered[l.m - 1], false);
     }
-    // The m strongest first, the least of them at m − 1; their order comes as they are asked for.
-    std::nth_element(l.keys, l.keys + (l.m - 1), l.keys + l.listed, std::greater<>());
-    return CandidateList(grid, l.keys, l.listed, l.m, 0, l.m, l.keys[l.m - 1], false);
+    // The m strongest first; their order comes as they are asked for.
+    const uint64_t lowest = l.selectStrongest();
+    return CandidateList(grid, l.keys, l.listed, l.m, 0, l.m, lowest, false);
 }
 
 // Radius (px, a whole number) of the square about a seed in which oneSided weighs the gradients,
@@ -479,12 +482,9 @@ bool oneSided(const CandidateGrid& g, size_t q, const Kernels& k) {
 // grid alone, so the region measures the seeds it would have measured, in the same order.
 CandidateList weakerCandidates(const CandidateGrid& grid, const Kernels& k, size_t cap,
                                uint64_t below) {
-    if (grid.size == 0) return {};
     const ListedKeys l = listStrongest(grid, k, cap);
     if (l.m == 0) return {};
-    if (l.listed > l.m)
-        std::nth_element(l.keys, l.keys + (l.m - 1), l.keys + l.listed, std::greater<>());
-    const uint64_t lowest = *std::min_element(l.keys, l.keys + l.m);
+    const uint64_t lowest = l.selectStrongest();
     size_t kept = 0;
     for (size_t j = 0; j < l.m; ++j)
         if (l.keys[j] < below && oneSided(grid, detail::candidateIndex(l.keys[j]), k))
