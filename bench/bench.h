@@ -54,13 +54,13 @@ void benchMjpeg(const BenchOptions& options, const RowSink& sink);
 /// Blur width (measureBlur) for every region of a 16×9 grid on a synthetic 1080p frame.
 void benchBlur(const BenchOptions& options, const RowSink& sink);
 
-/// The blur grid (16×9) on each of @p frames (8-bit luma, the frames of the source @p input)
+/// The blur grid (16×9) on each of @p images (8-bit luma, the frames of the source @p input)
 /// scaled to 1920×1080: a row `blur_image` for each, searched from scratch beside the scalar
 /// reference kernels; then a row `blur_image_stream`, the frames in order, each held for 10
 /// frames, through BlurTracker as `infocus analyze` reads a camera, beside a full search of every
 /// frame.
 void benchBlurImages(const BenchOptions& options, const std::string& input,
-                     const std::vector<Image<uint8_t>>& frames, const RowSink& sink);
+                     const std::vector<Image<uint8_t>>& images, const RowSink& sink);
 
 /// One line of the blur accuracy table: a PSF of known size measured at every edge angle.
 struct AccuracyRow {
