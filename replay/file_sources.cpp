@@ -16,6 +16,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <opencv2/videoio/registry.hpp>
 #include <sstream>
 #include <vector>
 
@@ -392,11 +393,13 @@ public:
         std::unique_ptr<VideoReader> r(new VideoReader);
         r->path_ = path;
         r->text_ = text;
-        // FFmpeg first; other backends only as a fallback, quietly (they log every refusal).
+        // Quietly: a backend logs every file it refuses.
         const auto level = cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
-        try {
-            if (!r->cap_.open(path, cv::CAP_FFMPEG)) r->cap_.open(path, cv::CAP_ANY);
-        } catch (const cv::Exception&) {
+        for (const int api : videoFileBackends()) {
+            try {
+                if (r->cap_.open(path, api)) break;
+            } catch (const cv::Exception&) {
+            }
         }
         cv::utils::logging::setLogLevel(level);
         if (!r->cap_.isOpened())
@@ -502,6 +505,16 @@ Result<std::unique_ptr<FrameSource>> openImages(const SourceSpec& spec,
 }
 
 }  // namespace
+
+std::vector<int> videoFileBackends() {
+    // Not CAP_ANY, which also offers the path to every camera backend: V4L2 opened the file
+    // read-write as a device and gphoto2 scanned the USB bus for cameras (loading some 120
+    // driver files) before a file that is no video was refused.
+    std::vector<int> apis;
+    for (const cv::VideoCaptureAPIs api : {cv::CAP_FFMPEG, cv::CAP_GSTREAMER, cv::CAP_OPENCV_MJPEG})
+        if (cv::videoio_registry::hasBackend(api)) apis.push_back(api);
+    return apis;
+}
 
 Result<std::unique_ptr<FrameSource>> openPathSource(const SourceSpec& spec) {
     std::string path = spec.target;

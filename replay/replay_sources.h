@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "infocus/error.h"
 #include "infocus/source.h"
@@ -16,6 +17,11 @@ namespace infocus::replay {
 /// as in playback.h. NotFound when nothing exists at the path, Unsupported when the file is of
 /// no readable kind, Corrupt when it is damaged beyond its first frame.
 Result<std::unique_ptr<FrameSource>> openPathSource(const SourceSpec& spec);
+
+/// OpenCV's capture backends (cv::VideoCaptureAPIs) a video file is offered to, in order: those
+/// of this build that read files, FFmpeg first. Never a camera backend (V4L2, gphoto2), which
+/// would take the path for a device.
+std::vector<int> videoFileBackends();
 
 /// Opens the simulated camera `sim:` with the options of include/infocus/sim.h.
 Result<std::unique_ptr<FrameSource>> openSimSource(const SourceSpec& spec);

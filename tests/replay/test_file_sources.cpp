@@ -285,3 +285,18 @@ TEST_CASE("video files play through OpenCV as GREY frames") {
     REQUIRE(!bad.ok());
     REQUIRE_THAT(bad.error().message, Catch::Contains("clip.avi.bin"));
 }
+
+TEST_CASE("a video file is offered to OpenCV's file backends only, FFmpeg first") {
+    const std::vector<int> apis = replay::videoFileBackends();
+    REQUIRE(!apis.empty());
+    CHECK(apis.front() == cv::CAP_FFMPEG);
+    // A camera backend takes the path for a device: V4L2 opens it read-write, gphoto2 scans the
+    // USB bus. Nor may the list defer to OpenCV's own choice, which tries them all.
+    for (const int api : apis) {
+        CHECK(api != cv::CAP_ANY);
+        CHECK(api != cv::CAP_V4L2);
+        CHECK(api != cv::CAP_GPHOTO2);
+        CHECK(api != cv::CAP_FIREWIRE);
+        CHECK(api != cv::CAP_UEYE);
+    }
+}
