@@ -9,9 +9,11 @@
 
 #include <dirent.h>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <ctime>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "infocus/recording.h"
@@ -116,32 +118,63 @@ Result<RecordingHeader> headerFromJson(const std::string& path, const std::strin
     };
     nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
     if (j.is_discarded() || !j.is_object()) return bad("not valid JSON");
-    if (j.value("format", std::string()) != "infocus-recording")
-        return bad("missing \"format\": \"infocus-recording\"");
-    if (!j.contains("format_version") || !j["format_version"].is_number_integer())
-        return bad("missing integer \"format_version\"");
+    // The field being read: nlohmann's type errors do not name it, and the user needs to know
+    // which one is damaged.
+    std::string field;
+    // An integer field within [lo, hi]: a float or an integer past int would otherwise be cast
+    // silently (4294967297 read as 1) or, for a float past int's range, undefined.
+    const auto integer = [&](const nlohmann::json& o, const char* key, int64_t lo,
+                             int64_t hi) -> std::optional<int64_t> {
+        field = key;
+        const auto& v = o.at(key);
+        if (!v.is_number_integer()) return std::nullopt;
+        const auto x =
+            v.is_number_unsigned() && v.get<uint64_t>() > INT64_MAX ? INT64_MAX : v.get<int64_t>();
+        if (x < lo || x > hi) return std::nullopt;
+        return x;
+    };
     RecordingHeader h;
-    h.formatVersion = j["format_version"].get<int>();
-    h.infocusVersion = j.value("infocus_version", std::string("unknown"));
-    if (h.formatVersion > replay::kRecordingFormatVersion)
-        return makeError(ErrorKind::Unsupported,
-                         "recording " + path + " uses format version " +
-                             std::to_string(h.formatVersion) + " (written by infocus " +
-                             h.infocusVersion +
-                             "); this infocus (" INFOCUS_VERSION ") reads up to version " +
-                             std::to_string(replay::kRecordingFormatVersion) +
-                             ": use a newer infocus to replay it");
-    if (h.formatVersion < 1) return bad("format_version must be at least 1");
     try {
+        field = "format";
+        if (j.value("format", std::string()) != "infocus-recording")
+            return bad("missing \"format\": \"infocus-recording\"");
+        field = "infocus_version";
+        h.infocusVersion = j.value("infocus_version", std::string("unknown"));
+        field = "format_version";
+        if (!j.contains("format_version")) return bad("missing integer \"format_version\"");
+        const auto version = integer(j, "format_version", 1, INT64_MAX);
+        if (!version) return bad("\"format_version\" must be a whole number from 1 up");
+        if (*version > replay::kRecordingFormatVersion)
+            return makeError(ErrorKind::Unsupported,
+                             "recording " + path + " uses format version " +
+                                 std::to_string(*version) + " (written by infocus " +
+                                 h.infocusVersion +
+                                 "); this infocus (" INFOCUS_VERSION ") reads up to version " +
+                                 std::to_string(replay::kRecordingFormatVersion) +
+                                 ": use a newer infocus to replay it");
+        h.formatVersion = static_cast<int>(*version);
+        field = "source";
         h.sourceString = j.value("source", std::string());
+        field = "device";
         h.device = j.value("device", std::string());
+        field = "driver";
         h.driver = j.value("driver", std::string());
+        field = "pixel_format";
         auto fmt = parsePixelFormat(j.at("pixel_format").get<std::string>());
         if (!fmt) return bad("unknown pixel_format");
         h.format = *fmt;
-        h.size = {j.at("width_px").get<int>(), j.at("height_px").get<int>()};
+        const auto w = integer(j, "width_px", 1, INT32_MAX);
+        const auto ht = w ? integer(j, "height_px", 1, INT32_MAX) : std::nullopt;
+        if (!w || !ht) return bad("\"" + field + "\" must be a whole number from 1 up");
+        h.size = {static_cast<int>(*w), static_cast<int>(*ht)};
+        field = "fps";
         h.fps = j.value("fps", 0.0);
-        h.createdUnixS = j.value("created_unix_s", int64_t{0});
+        if (j.contains("created_unix_s")) {
+            const auto created = integer(j, "created_unix_s", INT64_MIN, INT64_MAX);
+            if (!created) return bad("\"created_unix_s\" must be a whole number of seconds");
+            h.createdUnixS = *created;
+        }
+        field = "focus_control";
         if (j.contains("focus_control") && j["focus_control"].is_object()) {
             const auto& f = j["focus_control"];
             FocusRange r;
@@ -153,7 +186,7 @@ Result<RecordingHeader> headerFromJson(const std::string& path, const std::strin
             h.focus = r;
         }
     } catch (const nlohmann::json::exception& e) {
-        return bad(std::string("field missing or of the wrong type (") + e.what() + ")");
+        return bad("\"" + field + "\" missing or of the wrong type (" + e.what() + ")");
     }
     return h;
 }

@@ -344,6 +344,35 @@ TEST_CASE("bad recordings fail with errors that name the file and the problem") 
         REQUIRE(r.error().kind == ErrorKind::Corrupt);
         REQUIRE_THAT(r.error().message, Catch::Contains("header.json"));
     }
+    SECTION("header fields of the wrong type are named, not thrown") {
+        // Each edit keeps the header valid JSON (one field a line); the field then holds a value
+        // of another type, or an integer past int.
+        const std::pair<std::string, std::string> edits[] = {
+            {"format", "99999999"},       {"infocus_version", "[]"},
+            {"infocus_version", "1e308"}, {"format_version", "-4294967295"},
+            {"format_version", "1.5"},    {"width_px", "\"16\""},
+            {"height_px", "1e308"},       {"width_px", "4294967312"},
+            {"created_unix_s", "1e308"},
+        };
+        for (const auto& [key, value] : edits) {
+            INFO(key << ": " << value);
+            const std::string dir = writeGrey(1);
+            std::ifstream in(dir + "/header.json");
+            std::string text((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
+            const size_t pos = text.find("\"" + key + "\": ");
+            REQUIRE(pos != std::string::npos);
+            const size_t from = pos + key.size() + 4;
+            const size_t to = text.find_first_of(",\n", from);
+            text.replace(from, to - from, value);
+            std::ofstream(dir + "/header.json") << text;
+            auto r = RecordingReader::open(dir);
+            REQUIRE(!r.ok());
+            CHECK(r.error().kind == ErrorKind::Corrupt);
+            CHECK(r.error().message.find("header.json") != std::string::npos);
+            CHECK(r.error().message.find(key) != std::string::npos);
+        }
+    }
     SECTION("an empty frame file has nothing to play") {
         const std::string dir = tempDir("empty");
         {
