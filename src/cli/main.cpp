@@ -33,6 +33,22 @@ int main(int argc, char** argv) {
         }
         command = argv[1];
     }
+    // An empty value ('--coc ""', '--focal=') would otherwise read as an option not given, or
+    // as 0 for a number: the command would run on a default the user did not choose.
+    for (int i = 2; i < argc; ++i) {
+        const std::string arg = argv[i];
+        const bool emptyAfter = arg.empty() && argv[i - 1][0] == '-';
+        const bool emptyJoined = arg.size() > 2 && arg.rfind("--", 0) == 0 && arg.back() == '=';
+        if (!arg.empty() && !emptyJoined) continue;
+        const std::string label = command.empty() ? "infocus" : "infocus " + command;
+        std::cerr << label << ": "
+                  << (emptyAfter    ? "an empty argument follows " + std::string(argv[i - 1])
+                      : emptyJoined ? "the value of " + arg.substr(0, arg.size() - 1) + " is empty"
+                                    : std::string("an argument is empty"))
+                  << "; give one, or leave the option out\nRun '" << label
+                  << " --help' for the options.\n";
+        return infocus::cli::kExitUsage;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -24,5 +24,10 @@ expect 2 'subcommand' --
 expect 2 'nonsense' -- nonsense
 expect 2 'not expected|--bogus' -- bench --bogus
 expect 2 'seconds' -- bench --seconds -1
+# An empty value is refused, not read as an option left out (a default CoC) or as 0.
+expect 2 'empty argument follows --coc' -- dof --focal 50mm -N 8 --focus 2m --coc ''
+expect 2 'value of --focal is empty' -- dof --focal= -N 8 --focus 2m --coc 0.03mm
+expect 2 'empty argument follows --blur-floor' -- depth - --blur-floor ''
+expect 2 'argument is empty' -- analyze ''
 echo "cli: $pass passed, $fail failed"
 [[ $fail -eq 0 ]]
