@@ -88,8 +88,11 @@ void printTable(const optics::DofResult& r, const optics::DofInput& in,
     std::printf("  H' = f²/(Nc)      %s\n", formatDistance(r.hyperfocalSimple).c_str());
     std::printf("  near ≈ H'u/(H'+u) %s\n", formatDistance(r.approximate.nearLimit).c_str());
     std::printf("  far  ≈ H'u/(H'−u) %s\n", formatDistance(r.approximate.farLimit).c_str());
-    std::printf("\n  diffraction       Airy disc %s at %g nm (2.44 λN), %.2f × the CoC\n",
-                formatSensorLength(r.airyDisc).c_str(), in.wavelength * 1e9, r.airyDisc / in.coc);
+    const double airyInCoc = r.airyDisc / in.coc;
+    std::printf(airyInCoc < 1e3
+                    ? "\n  diffraction       Airy disc %s at %g nm (2.44 λN), %.2f × the CoC\n"
+                    : "\n  diffraction       Airy disc %s at %g nm (2.44 λN), %.3g × the CoC\n",
+                formatSensorLength(r.airyDisc).c_str(), in.wavelength * 1e9, airyInCoc);
     if (r.withDiffraction)
         std::printf("  with diffraction  %s to %s  (defocus² + Airy² ≤ CoC²)\n",
                     formatDistance(r.withDiffraction->nearLimit).c_str(),

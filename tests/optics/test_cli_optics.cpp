@@ -58,6 +58,19 @@ TEST_CASE("dof prints the reference numbers as a table", "[cli]") {
     CHECK(has(r, "distances from the lens"));
 }
 
+TEST_CASE("dof writes a far-fetched magnitude as a number with an exponent", "[cli]") {
+    // At f/1e300 the Airy disc is 2.44 λN = 1.34e+294 m, 4.47e+298 CoCs of 0.03 mm: as digits
+    // it filled 300 columns of the table.
+    const auto r = run("dof --focal 50mm --fnumber 1e300 --focus 2m --coc 0.03mm");
+    REQUIRE(r.status == 0);
+    CHECK_THAT(r.out,
+               Catch::Contains("Airy disc 1.34e+294 m") && Catch::Contains("4.47e+298 × the CoC"));
+    // Within the usual range nothing changes.
+    const auto usual = run("dof --focal 50mm --fnumber 8 --focus 10m --coc 0.03mm");
+    CHECK_THAT(usual.out,
+               Catch::Contains("Airy disc 10.7 µm") && Catch::Contains("0.36 × the CoC"));
+}
+
 TEST_CASE("dof --json has the contract's fields, from the lens and from the sensor", "[cli]") {
     const auto r = run("dof --focal 50mm --fnumber 8 --focus 10m --coc 0.03mm --json");
     INFO(r.out);
