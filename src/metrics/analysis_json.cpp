@@ -2,6 +2,11 @@
 // The `infocus analyze` JSONL record (DESIGN.md "analyze JSONL"): writing and reading it back.
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+
 #include "infocus/analysis.h"
 
 namespace infocus {
@@ -54,6 +59,56 @@ std::string toJsonLine(const FrameAnalysis& a) {
     return j.dump();
 }
 
+namespace {
+
+// A field of a record that is of the right JSON type but not a value analyze writes (a negative
+// width, a confidence of 7): named by parseJsonLine with the others.
+struct BadField {
+    std::string why;
+};
+
+// The integer @p key of @p o within [@p lo, @p hi]. A float, or an integer past int, would
+// otherwise be cast silently (or, for a float past int's range, undefinedly).
+int64_t integer(const Json& o, const char* key, int64_t lo, int64_t hi) {
+    const Json& v = o.at(key);
+    // An unsigned value past INT64_MAX is out of every range asked for here.
+    const bool inRange =
+        v.is_number_integer() &&
+        (!v.is_number_unsigned() || v.get<uint64_t>() <= static_cast<uint64_t>(INT64_MAX)) &&
+        v.get<int64_t>() >= lo && v.get<int64_t>() <= hi;
+    if (inRange) return v.get<int64_t>();
+    // Appended piece by piece: GCC 12 warns (-Wrestrict) on a chain of + here.
+    std::string why = "\"";
+    why += key;
+    why += "\" must be a whole number from ";
+    why += std::to_string(lo);
+    why += " to ";
+    why += std::to_string(hi);
+    why += " (it is ";
+    why += v.dump();
+    why += ")";
+    throw BadField{why};
+}
+
+// The number @p key of @p o within [@p lo, @p hi], or empty when absent or null.
+std::optional<double> number(const Json& o, const char* key, double lo, double hi) {
+    if (!o.contains(key) || o[key].is_null()) return std::nullopt;
+    const double v = o[key].get<double>();
+    if (v >= lo && v <= hi) return v;
+    std::string why = "\"";
+    why += key;
+    why += "\" must be ";
+    why += Json(lo).dump();
+    why += hi == std::numeric_limits<double>::max() ? std::string(" or more")
+                                                    : " to " + Json(hi).dump();
+    why += " (it is ";
+    why += o[key].dump();
+    why += ")";
+    throw BadField{why};
+}
+
+}  // namespace
+
 Result<FrameAnalysis> parseJsonLine(std::string_view line) {
     const auto fail = [](const std::string& why) {
         return makeError(ErrorKind::Corrupt,
@@ -62,12 +117,17 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
     };
     const Json j = Json::parse(line, nullptr, /*allow_exceptions=*/false);
     if (j.is_discarded() || !j.is_object()) return fail("not a JSON object");
+    constexpr int64_t kIntMax = std::numeric_limits<int>::max();
+    constexpr double kHuge = std::numeric_limits<double>::max();
+    size_t region = 0;  // the region being read, 1-based; 0 while the frame's fields are read
     try {
         FrameAnalysis a;
-        a.frame = j.at("frame").get<uint64_t>();
-        a.timestampNs = j.value("timestamp_ns", int64_t{0});
-        a.width = j.at("width").get<int>();
-        a.height = j.at("height").get<int>();
+        a.frame = static_cast<uint64_t>(integer(j, "frame", 0, INT64_MAX));
+        a.timestampNs = j.contains("timestamp_ns")
+                            ? integer(j, "timestamp_ns", INT64_MIN, INT64_MAX)
+                            : int64_t{0};
+        a.width = static_cast<int>(integer(j, "width", 1, kIntMax));
+        a.height = static_cast<int>(integer(j, "height", 1, kIntMax));
         a.metric = j.value("metric", std::string());
         a.frameSharpness = j.value("frame_sharpness", 0.0);
         if (j.contains("noise_sigma") && j["noise_sigma"].is_number())
@@ -81,30 +141,33 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
                 p.dioptres = l["dioptres"].get<double>();
             a.lens = p;
         }
-        const auto opt = [](const Json& o, const char* key) -> std::optional<double> {
-            if (!o.contains(key) || o[key].is_null()) return std::nullopt;
-            return o[key].get<double>();
-        };
         for (const Json& o : j.at("regions")) {
+            ++region;
             RegionResult r;
-            r.col = o.at("col").get<int>();
-            r.row = o.at("row").get<int>();
-            r.rect = {o.at("x").get<int>(), o.at("y").get<int>(), o.at("w").get<int>(),
-                      o.at("h").get<int>()};
+            r.col = static_cast<int>(integer(o, "col", 0, kIntMax));
+            r.row = static_cast<int>(integer(o, "row", 0, kIntMax));
+            r.rect = {static_cast<int>(integer(o, "x", 0, kIntMax)),
+                      static_cast<int>(integer(o, "y", 0, kIntMax)),
+                      static_cast<int>(integer(o, "w", 1, kIntMax)),
+                      static_cast<int>(integer(o, "h", 1, kIntMax))};
             r.sharpness = o.at("sharpness").get<double>();
-            r.edgeWidthPx = opt(o, "edge_width_px");
-            r.blurSigmaPx = opt(o, "blur_sigma_px");
-            r.blurWidthPx = opt(o, "blur_width_px");
-            r.confidence = o.value("confidence", 0.0);
+            // Widths are lengths: a negative one is no blur analyze measures.
+            r.edgeWidthPx = number(o, "edge_width_px", 0.0, kHuge);
+            r.blurSigmaPx = number(o, "blur_sigma_px", 0.0, kHuge);
+            r.blurWidthPx = number(o, "blur_width_px", 0.0, kHuge);
+            r.confidence = number(o, "confidence", 0.0, 1.0).value_or(0.0);
             a.regions.push_back(r);
         }
         return a;
+    } catch (const BadField& e) {
+        return fail((region ? "region " + std::to_string(region) + ": " : std::string()) + e.why);
     } catch (const nlohmann::json::exception& e) {
         // nlohmann names the missing key or the type mismatch, after a tag for programmers
         // ("[json.exception.out_of_range.403] ") that a reader of the message does not need.
         const std::string what = e.what();
         const size_t tag = what.rfind("] ", what.find(' '));
-        return fail(tag == std::string::npos ? what : what.substr(tag + 2));
+        return fail((region ? "region " + std::to_string(region) + ": " : std::string()) +
+                    (tag == std::string::npos ? what : what.substr(tag + 2)));
     }
 }
 

@@ -169,6 +169,49 @@ TEST_CASE("depth names the line and the field of a record it cannot read", "[cli
     CHECK(!has(r, "json.exception"));
 }
 
+TEST_CASE("depth refuses a record value analyze never writes, and names it", "[cli]") {
+    // One good region; each case puts one value out of its range (a float, a negative length, a
+    // confidence past 1). Read as they were, they drew an image of -2147483648 columns or fitted
+    // the plane to a blur of -3 px.
+    const auto record = [](const std::string& width, const std::string& x, const std::string& w,
+                           const std::string& blur, const std::string& confidence) {
+        return "{\"frame\": 0, \"width\": " + width + ", \"height\": 480, \"regions\": [" +
+               "{\"col\": 0, \"row\": 0, \"x\": " + x + ", \"y\": 0, \"w\": " + w +
+               ", \"h\": 80, \"sharpness\": 0.01, \"blur_width_px\": " + blur +
+               ", \"confidence\": " + confidence + "}]}\n";
+    };
+    const std::pair<std::string, std::string> cases[] = {
+        {record("1e308", "0", "80", "2.0", "0.5"), "\"width\" must be a whole number from 1"},
+        {record("-1", "0", "80", "2.0", "0.5"), "\"width\" must be a whole number from 1"},
+        {record("640", "1e308", "80", "2.0", "0.5"), "region 1: \"x\" must be a whole number"},
+        {record("640", "0", "0", "2.0", "0.5"), "region 1: \"w\" must be a whole number from 1"},
+        {record("640", "0", "80", "-3", "0.5"), "region 1: \"blur_width_px\" must be 0.0 or more"},
+        {record("640", "0", "80", "2.0", "7"), "region 1: \"confidence\" must be 0.0 to 1.0"},
+    };
+    for (const auto& [text, message] : cases) {
+        char path[] = "/tmp/infocus-depth-range-XXXXXX.jsonl";
+        const int fd = ::mkstemps(path, 6);
+        REQUIRE(fd >= 0);
+        ::close(fd);
+        std::ofstream(path) << text;
+        const Run r = run(std::string("depth ") + path + " --lens rpi-cam3 --focus 1m");
+        std::remove(path);
+        INFO(text << r.out);
+        CHECK(r.status == 1);
+        CHECK(has(r, "line 1: analysis record: " + message));
+    }
+    // The same record in range is read.
+    char path[] = "/tmp/infocus-depth-range-XXXXXX.jsonl";
+    const int fd = ::mkstemps(path, 6);
+    REQUIRE(fd >= 0);
+    ::close(fd);
+    std::ofstream(path) << record("640", "0", "80", "2.0", "0.5");
+    const Run ok = run(std::string("depth ") + path + " --lens rpi-cam3 --focus 1m");
+    std::remove(path);
+    INFO(ok.out);
+    CHECK(ok.status == 0);
+}
+
 TEST_CASE("depth on a blur map rendered from the lecture's model", "[cli]") {
     // 25 mm f/1.4 focused at 0.5 m, 3.45 µm pixels, 1920x1080, 16x9 regions; the scene plane
     // meets the axis at 0.52 m and is tilted 20° about the image's x axis (depth grows down).
