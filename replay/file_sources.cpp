@@ -9,6 +9,8 @@
 #include <dirent.h>
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
+#include <climits>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -17,6 +19,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <opencv2/videoio/registry.hpp>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -40,6 +43,16 @@ std::string extension(const std::string& path) {
     const size_t dot = path.rfind('.');
     if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
     return lower(path.substr(dot + 1));
+}
+
+// The whole of @p text as an integer in [@p lo, @p hi]; empty for anything else ("1e9", "",
+// "4294967297"), which atoi would have read as some other number.
+std::optional<int> wholeNumber(std::string_view text, int lo, int hi) {
+    int v = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
+        return std::nullopt;
+    return v;
 }
 
 bool isImageExtension(const std::string& ext) {
@@ -115,17 +128,32 @@ public:
         std::istringstream tokens(line.substr(9));
         std::string tok, colour = "420jpeg";
         int fpsNum = 0, fpsDen = 1;
+        // A side of up to 65536 px: a frame of 4 G pixels, far past any camera, and its plane
+        // sizes stay far from overflow.
+        constexpr int kMaxSide = 65536;
         while (tokens >> tok) {
+            const std::string_view value = std::string_view(tok).substr(1);
             switch (tok[0]) {
                 case 'W':
-                    r->size_.width = std::atoi(tok.c_str() + 1);
+                case 'H': {
+                    const auto side = wholeNumber(value, 1, kMaxSide);
+                    if (!side)
+                        return bad("its header's " + tok + " is not a " +
+                                   (tok[0] == 'W' ? "width" : "height") + " of 1 to " +
+                                   std::to_string(kMaxSide) + " pixels");
+                    (tok[0] == 'W' ? r->size_.width : r->size_.height) = *side;
                     break;
-                case 'H':
-                    r->size_.height = std::atoi(tok.c_str() + 1);
+                }
+                case 'F': {
+                    // A rate the header gets wrong only costs the playback pace: it falls back.
+                    const size_t colon = value.find(':');
+                    const auto num = wholeNumber(value.substr(0, colon), 1, INT_MAX);
+                    const auto den = colon == std::string_view::npos
+                                         ? std::nullopt
+                                         : wholeNumber(value.substr(colon + 1), 1, INT_MAX);
+                    if (num && den) fpsNum = *num, fpsDen = *den;
                     break;
-                case 'F':
-                    std::sscanf(tok.c_str() + 1, "%d:%d", &fpsNum, &fpsDen);
-                    break;
+                }
                 case 'C':
                     colour = tok.substr(1);
                     break;

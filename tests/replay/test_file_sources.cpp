@@ -146,7 +146,7 @@ TEST_CASE("Y4M: 420, 422, 444 and mono deliver the luma plane") {
     }
     SECTION("a header without a size says what to do") {
         const std::string path = dir + "/nosize.y4m";
-        std::ofstream(path, std::ios::binary) << "YUV4MPEG2 W0 H48 F25:1\nFRAME\n";
+        std::ofstream(path, std::ios::binary) << "YUV4MPEG2 H48 F25:1\nFRAME\n";
         auto src = openPath(path);
         REQUIRE(!src.ok());
         REQUIRE(src.error().kind == ErrorKind::Corrupt);
@@ -154,6 +154,34 @@ TEST_CASE("Y4M: 420, 422, 444 and mono deliver the luma plane") {
                                               Catch::Contains("no positive width") &&
                                               Catch::Contains("yuv4mpegpipe"));
     }
+}
+
+TEST_CASE("Y4M: a width or height that is not a whole number of pixels is named") {
+    const test::ScratchDir scratch("infocus-test-y4m-size-");
+    // atoi read "W1e9" as 1 and "H4294967297" as 1, and played a 1-pixel frame.
+    for (const std::string size :
+         {"W1e9 H48", "W64 H4294967297", "W0 H48", "W64 H", "W70000 H48"}) {
+        INFO(size);
+        const std::string path = scratch.file("bad.y4m");
+        {
+            std::ofstream out(path, std::ios::binary);
+            out << "YUV4MPEG2 " << size << " F25:1 Cmono\nFRAME\n" << std::string(64 * 48, 'x');
+        }
+        auto src = openPath(path);
+        REQUIRE(!src.ok());
+        CHECK(src.error().kind == ErrorKind::Corrupt);
+        CHECK_THAT(src.error().message, Catch::Contains("bad.y4m") && Catch::Contains("pixels"));
+    }
+    // A frame rate it cannot read only loses the pace: the frames still play.
+    const std::string path = scratch.file("rate.y4m");
+    {
+        std::ofstream out(path, std::ios::binary);
+        out << "YUV4MPEG2 W64 H48 F25:0 Cmono\nFRAME\n" << std::string(64 * 48, 'x');
+    }
+    auto src = openPath(path);
+    REQUIRE(src.ok());
+    CHECK((*src)->info().size.width == 64);
+    CHECK(readAll(**src).size() == 1);
 }
 
 TEST_CASE("images: JPEG as MJPEG bytes, PNG as GREY or Y16, directories and globs in order") {
