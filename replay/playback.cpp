@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <thread>
 
@@ -60,7 +62,10 @@ Result<PlaybackOptions> parsePlaybackOptions(const SourceSpec& spec,
         const bool seconds = !s.empty() && s.back() == 's';
         if (seconds) s.pop_back();
         auto v = parseNumber(s);
-        if (!v || (!seconds && std::floor(*v) != *v))
+        // Past 2^53 a double holds no exact index, and a cast past size_t's range is undefined
+        // (start=1e30 played from frame 0).
+        constexpr double kMaxIndex = 9007199254740992.0;
+        if (!v || (!seconds && (std::floor(*v) != *v || *v > kMaxIndex)))
             return bad("start=" + it->second +
                        " must be a frame index (start=120) or a time in seconds (start=2.5s)");
         if (seconds)
@@ -219,14 +224,18 @@ Result<std::unique_ptr<FrameSource>> makePlayback(std::unique_ptr<FrameReader> r
         first = *options.startFrame;
     } else if (options.startS) {
         const int64_t t0 = reader->timestampNs(0);
-        const auto target = static_cast<int64_t>(std::llround(*options.startS * 1e9));
+        // llround past int64's range is unspecified: start=1e30s played from the first frame.
+        const double ns = *options.startS * 1e9;
+        const int64_t target = ns >= 9.2e18 ? INT64_MAX : static_cast<int64_t>(std::llround(ns));
         while (first < n && reader->timestampNs(first) - t0 < target)
             ++first;
-        if (first >= n)
-            return makeError(ErrorKind::Usage,
-                             "source '" + info.sourceString + "': start=" +
-                                 std::to_string(*options.startS) + "s is beyond its last frame (" +
-                                 std::to_string((reader->timestampNs(n - 1) - t0) / 1e9) + " s)");
+        if (first >= n) {
+            char text[96];
+            std::snprintf(text, sizeof text, "start=%gs is beyond its last frame (%.3f s)",
+                          *options.startS,
+                          static_cast<double>(reader->timestampNs(n - 1) - t0) / 1e9);
+            return makeError(ErrorKind::Usage, "source '" + info.sourceString + "': " + text);
+        }
     }
     return std::unique_ptr<FrameSource>(
         std::make_unique<PlaybackSource>(std::move(reader), options, first));

@@ -406,6 +406,17 @@ TEST_CASE("playback options: seek, loop with monotonic timestamps, pacing") {
         auto beyond = openPath(dir + ",start=5");
         REQUIRE(!beyond.ok());
         REQUIRE(beyond.error().kind == ErrorKind::Usage);
+        // Past what a frame index or a count of nanoseconds can hold: refused or beyond, never
+        // wrapped round to the first frame.
+        for (const char* far : {",start=1e30", ",start=1e30s", ",start=1e300s"}) {
+            INFO(far);
+            auto f = openPath(dir + far);
+            REQUIRE(!f.ok());
+            CHECK(f.error().kind == ErrorKind::Usage);
+        }
+        auto late = openPath(dir + ",start=1e30s");
+        REQUIRE(!late.ok());
+        CHECK_THAT(late.error().message, Catch::Contains("start=1e+30s is beyond its last frame"));
     }
     SECTION("loop keeps timestamps and sequence numbers increasing") {
         auto s = openPath(dir + ",loop=1,start=1");
