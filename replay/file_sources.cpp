@@ -61,8 +61,15 @@ bool isImageExtension(const std::string& ext) {
     return kExts.count(ext) > 0;
 }
 
-int64_t framePeriodNs(double fps) {
-    return static_cast<int64_t>(std::llround(1e9 / fps));
+// The timestamp of frame @p i at @p fps frames a second, ns from the first; saturates at
+// INT64_MAX rather than overflow (a long file at a time-lapse rate).
+int64_t frameTimeNs(size_t i, double fps) {
+    const auto period = static_cast<int64_t>(std::llround(1e9 / fps));
+    int64_t t = 0;
+    if (i > static_cast<size_t>(INT64_MAX) ||
+        __builtin_mul_overflow(static_cast<int64_t>(i), period, &t))
+        return INT64_MAX;
+    return t;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -163,7 +170,9 @@ public:
         }
         if (r->size_.width <= 0 || r->size_.height <= 0)
             return bad("its header has no positive width (W) and height (H)");
-        r->fps_ = fpsNum > 0 && fpsDen > 0 ? static_cast<double>(fpsNum) / fpsDen : 0.0;
+        // A rate past those a source option may give would overflow the frames' timestamps.
+        const double fps = static_cast<double>(fpsNum) / fpsDen;
+        r->fps_ = fps >= kMinFps && fps <= kMaxFps ? fps : 0.0;
 
         // Bytes per sample and chroma subsampling from the colour space tag.
         size_t bytes = 1;
@@ -252,9 +261,7 @@ public:
         return i;
     }
     size_t count() const override { return offsets_.size(); }
-    int64_t timestampNs(size_t i) const override {
-        return static_cast<int64_t>(i) * framePeriodNs(fps_ > 0 ? fps_ : 30.0);
-    }
+    int64_t timestampNs(size_t i) const override { return frameTimeNs(i, fps_ > 0 ? fps_ : 30.0); }
     Result<Frame> read(size_t i) override {
         auto frame = allocateFrame(format_, size_);
         if (!frame) return frame.error();
@@ -393,9 +400,7 @@ public:
         return i;
     }
     size_t count() const override { return files_.size(); }
-    int64_t timestampNs(size_t i) const override {
-        return static_cast<int64_t>(i) * framePeriodNs(fps_);
-    }
+    int64_t timestampNs(size_t i) const override { return frameTimeNs(i, fps_); }
     Result<Frame> read(size_t i) override {
         auto f = i == 0 && first_.numPlanes ? Result<Frame>(first_) : loadImage(files_[i]);
         if (!f) return f.error();
@@ -455,9 +460,7 @@ public:
         return i;
     }
     size_t count() const override { return count_; }
-    int64_t timestampNs(size_t i) const override {
-        return static_cast<int64_t>(i) * framePeriodNs(fps_);
-    }
+    int64_t timestampNs(size_t i) const override { return frameTimeNs(i, fps_); }
     Result<Frame> read(size_t i) override {
         if (i != next_) {
             cap_.set(cv::CAP_PROP_POS_FRAMES, static_cast<double>(i));

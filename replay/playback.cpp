@@ -36,7 +36,8 @@ Result<PlaybackOptions> parsePlaybackOptions(const SourceSpec& spec,
     PlaybackOptions o;
     if (auto it = spec.options.find("fps"); it != spec.options.end()) {
         auto v = parseNumber(it->second);
-        if (!v || *v <= 0) return bad("fps=" + it->second + " must be a positive number");
+        if (!v || !(*v >= kMinFps && *v <= kMaxFps))
+            return bad("fps=" + it->second + " must be a frame rate from 0.000001 to 1000000");
         o.fps = *v;
         o.pace = PlaybackOptions::Pace::Fps;
     }

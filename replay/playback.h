@@ -61,4 +61,9 @@ Result<std::unique_ptr<FrameSource>> makePlayback(std::unique_ptr<FrameReader> r
 /// Parses a non-negative decimal number; nullopt when @p text is not one entirely.
 std::optional<double> parseNumber(const std::string& text);
 
+/// Frame rates a source option may give (`fps=`), frames per second: from one frame in about
+/// 11.6 days (time-lapse) to a million a second, so that a frame period in nanoseconds stays
+/// far inside int64.
+inline constexpr double kMinFps = 1e-6, kMaxFps = 1e6;
+
 }  // namespace infocus::replay

@@ -454,7 +454,8 @@ Result<SimConfig> parseSimOptions(const std::map<std::string, std::string>& opti
             (key == "size" ? c.size : c.lens.sensorSize) = *s;
         } else if (key == "fps") {
             auto v = replay::parseNumber(value);
-            if (!v || *v <= 0) return bad(key, value, "give a positive frame rate");
+            if (!v || !(*v >= replay::kMinFps && *v <= replay::kMaxFps))
+                return bad(key, value, "give a frame rate from 0.000001 to 1000000");
             c.fps = *v;
         } else if (key == "noise") {
             auto v = replay::parseNumber(value);
@@ -617,7 +618,9 @@ public:
             }
         }
         frame->sequence = seq;
-        frame->timestampNs = static_cast<int64_t>(std::llround(seq * 1e9 / c.fps));
+        // Saturated: at a time-lapse rate a long run passes int64's nanoseconds.
+        const double t = static_cast<double>(seq) * 1e9 / c.fps;
+        frame->timestampNs = t < 9.2e18 ? static_cast<int64_t>(std::llround(t)) : INT64_MAX;
         frame->lens = LensPosition{dioptres, "dioptre", dioptres};
         if (c.paced) {
             const auto due =

@@ -172,16 +172,25 @@ TEST_CASE("Y4M: a width or height that is not a whole number of pixels is named"
         CHECK(src.error().kind == ErrorKind::Corrupt);
         CHECK_THAT(src.error().message, Catch::Contains("bad.y4m") && Catch::Contains("pixels"));
     }
-    // A frame rate it cannot read only loses the pace: the frames still play.
-    const std::string path = scratch.file("rate.y4m");
-    {
-        std::ofstream out(path, std::ios::binary);
-        out << "YUV4MPEG2 W64 H48 F25:0 Cmono\nFRAME\n" << std::string(64 * 48, 'x');
+    // A frame rate it cannot read, or one so slow that the timestamps would overflow int64 by
+    // the third frame (F1:2147483647 is 4.7e-10 fps), only loses the pace: the frames still
+    // play, 30 frames a second apart.
+    for (const std::string rate : {"F25:0", "F1:2147483647", "F1e3:1"}) {
+        INFO(rate);
+        const std::string path = scratch.file("rate.y4m");
+        {
+            std::ofstream out(path, std::ios::binary);
+            out << "YUV4MPEG2 W64 H48 " << rate << " Cmono\n";
+            for (int f = 0; f < 5; ++f)
+                out << "FRAME\n" << std::string(64 * 48, 'x');
+        }
+        auto src = openPath(path);
+        REQUIRE(src.ok());
+        CHECK((*src)->info().size.width == 64);
+        const auto frames = readAll(**src);
+        REQUIRE(frames.size() == 5);
+        CHECK(frames[4].timestampNs == 4 * 33'333'333);
     }
-    auto src = openPath(path);
-    REQUIRE(src.ok());
-    CHECK((*src)->info().size.width == 64);
-    CHECK(readAll(**src).size() == 1);
 }
 
 TEST_CASE("images: JPEG as MJPEG bytes, PNG as GREY or Y16, directories and globs in order") {

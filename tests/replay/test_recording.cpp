@@ -458,7 +458,9 @@ TEST_CASE("playback options: seek, loop with monotonic timestamps, pacing") {
         REQUIRE(origMs < 1000.0);  // generous upper bound for a loaded machine
     }
     SECTION("bad options are usage errors") {
-        for (const char* opt : {",pace=slow", ",loop=2", ",start=abc", ",fps=0", ",speed=2"}) {
+        // fps past a million, or below one frame in 11.6 days, would overflow the timestamps.
+        for (const char* opt : {",pace=slow", ",loop=2", ",start=abc", ",fps=0", ",speed=2",
+                                ",fps=1e-300", ",fps=1e9"}) {
             auto s = openPath(dir + opt);
             REQUIRE(!s.ok());
             REQUIRE(s.error().kind == ErrorKind::Usage);

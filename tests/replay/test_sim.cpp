@@ -284,7 +284,10 @@ TEST_CASE("sim: YUYV output, options and errors") {
     REQUIRE(f->format == PixelFormat::YUYV);
     REQUIRE(f->planes[0].data[1] == 128);
     for (const char* bad : {"sim:scene=cube", "sim:focus=1.2", "sim:size=12", "sim:tilt=85",
-                            "sim:colour=red", "sim:distance=-1m", "sim:noise=2"}) {
+                            "sim:colour=red", "sim:distance=-1m", "sim:noise=2",
+                            // A rate whose frame period overflows int64 nanoseconds: the second
+                            // frame was stamped -9223372036854775808 ns.
+                            "sim:fps=1e-300", "sim:fps=1e9"}) {
         INFO(bad);
         auto e = openSim(bad);
         REQUIRE(!e.ok());
