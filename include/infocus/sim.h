@@ -73,15 +73,15 @@ enum class SimAxis { X, Y };
 struct SimConfig {
     SimScene scene = SimScene::Plane;
     SimLens lens;
-    double focusDioptres = 1.0 / 1.2;     ///< in-focus distance 1.2 m
-    std::vector<double> distancesM{1.0};  ///< one per plane; steps: several
-    double tiltDeg = 30.0;                ///< tilted scene
-    SimAxis tiltAxis = SimAxis::X;        ///< tilted scene
-    double edgeAngleDeg = 5.0;            ///< edges scene
-    Size size{1280, 720};                 ///< output resolution
-    double fps = 30.0;   ///< frame rate (timestamps and pacing), replay::kMinFps..kMaxFps
-    double noise = 0.0;  ///< Gaussian noise σ, fraction of full scale
-    uint64_t seed = 1;   ///< texture and noise seed
+    double focusDioptres = 1.0 / 1.2;        ///< in-focus distance 1.2 m
+    std::vector<double> distancesM{1.0};     ///< one per plane; steps: several
+    double tiltDeg = 30.0;                   ///< tilted scene
+    SimAxis tiltAxis = SimAxis::X;           ///< tilted scene
+    double edgeAngleDeg = 5.0;               ///< edges scene
+    Size size{1280, 720};                    ///< output resolution
+    double fps = 30.0;                       ///< frame rate, 1e-6..1e6 (timestamps and pacing)
+    double noise = 0.0;                      ///< Gaussian noise σ, fraction of full scale
+    uint64_t seed = 1;                       ///< texture and noise seed
     PixelFormat format = PixelFormat::GREY;  ///< GREY or YUYV (neutral chroma)
     bool paced = true;                       ///< deliver at fps like a camera; false: at once
 };
