@@ -170,6 +170,10 @@ public:
         }
         if (r->size_.width <= 0 || r->size_.height <= 0)
             return bad("its header has no positive width (W) and height (H)");
+        if (int64_t{r->size_.width} * r->size_.height > kMaxFramePixels)
+            return bad("its header's " + std::to_string(r->size_.width) + "x" +
+                       std::to_string(r->size_.height) +
+                       " is more than the 16384 x 16384 pixels a frame may hold");
         // A rate past those a source option may give would overflow the frames' timestamps.
         const double fps = static_cast<double>(fpsNum) / fpsDen;
         r->fps_ = fps >= kMinFps && fps <= kMaxFps ? fps : 0.0;
@@ -341,6 +345,9 @@ Result<Frame> loadImage(const std::string& path) {
         if (rc != 0) return damaged("is not a readable JPEG (" + why + ")");
         // A file cut inside its header may still parse without a frame size.
         if (w <= 0 || h <= 0) return damaged("is a JPEG cut short before its frame size");
+        if (int64_t{w} * h > kMaxFramePixels)
+            return damaged("claims " + std::to_string(w) + "x" + std::to_string(h) +
+                           " pixels, more than the 16384 x 16384 a frame may hold");
         Frame f = makeCompressedFrame(PixelFormat::MJPEG, {w, h}, bytes->data(), bytes->size());
         f.origin = path;
         return f;

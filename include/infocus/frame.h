@@ -97,9 +97,15 @@ struct FrameLayout {
     size_t totalSize = 0;
 };
 
+/// Most pixels a frame may hold (2^28, 268 megapixels, 16384 x 16384): past any camera's sensor.
+/// A damaged header that claims more (a JPEG of 60000 x 60000 in 30 kB) is refused before its
+/// memory is taken.
+inline constexpr int64_t kMaxFramePixels = int64_t{1} << 28;
+
 /// Computes the tight layout of @p format at @p size with the first plane's stride @p stride
 /// (0: minimal). Chroma planes' strides follow the V4L2 convention. Fails for MJPEG (no fixed
-/// layout), unknown formats, odd sizes a subsampled format forbids, or a stride that is too small.
+/// layout), unknown formats, sizes past kMaxFramePixels, odd sizes a subsampled format forbids,
+/// or a stride that is too small.
 Result<FrameLayout> frameLayout(PixelFormat format, Size size, size_t stride = 0);
 
 /// Allocates a zeroed frame of @p format and @p size with first-plane stride @p stride

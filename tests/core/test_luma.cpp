@@ -92,6 +92,10 @@ TEST_CASE("frame layouts follow V4L2 conventions and reject impossible sizes", "
     CHECK_FALSE(frameLayout(PixelFormat::NV12, {32, 7}).ok());
     CHECK_FALSE(frameLayout(PixelFormat::GREY, {32, 8}, 16).ok());
     CHECK_FALSE(frameLayout(PixelFormat::MJPEG, {32, 8}).ok());
+    // Up to 2^28 pixels, and not one more.
+    CHECK(frameLayout(PixelFormat::GREY, {16384, 16384}).ok());
+    CHECK_FALSE(frameLayout(PixelFormat::GREY, {16385, 16384}).ok());
+    CHECK_FALSE(frameLayout(PixelFormat::YUYV, {65536, 65536}).ok());
 }
 
 TEST_CASE("GREY, NV12, NV21, YU12 borrow the luma plane", "[luma]") {
@@ -283,6 +287,21 @@ TEST_CASE("MJPEG decodes luma only, matching the encoded picture", "[luma][mjpeg
     REQUIRE_FALSE(early.ok());
     CHECK(early.error().kind == ErrorKind::Corrupt);
     CHECK_THAT(early.error().message, Catch::Contains("cut short before its frame size"));
+
+    // A header that claims 60000 x 60000 (its SOF0 frame size patched; the data stay 64 x 48):
+    // refused before the decoder takes 3.6 GB for it.
+    std::vector<uint8_t> huge(fr.planes[0].data, fr.planes[0].data + fr.planes[0].size);
+    size_t sof = 2;
+    while (sof + 9 < huge.size() && !(huge[sof] == 0xFF && huge[sof + 1] == 0xC0))
+        ++sof;
+    REQUIRE(sof + 9 < huge.size());
+    for (const size_t at : {sof + 5, sof + 7})  // height, then width, big-endian
+        huge[at] = 60000 >> 8, huge[at + 1] = 60000 & 0xFF;
+    auto claimed =
+        conv.toLuma8(makeCompressedFrame(PixelFormat::MJPEG, {w, h}, huge.data(), huge.size()));
+    REQUIRE_FALSE(claimed.ok());
+    CHECK(claimed.error().kind == ErrorKind::Corrupt);
+    CHECK_THAT(claimed.error().message, Catch::Contains("60000x60000"));
 }
 
 TEST_CASE("damaged and unknown frames are errors, not crashes", "[luma]") {

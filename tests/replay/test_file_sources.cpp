@@ -160,7 +160,7 @@ TEST_CASE("Y4M: a width or height that is not a whole number of pixels is named"
     const test::ScratchDir scratch("infocus-test-y4m-size-");
     // atoi read "W1e9" as 1 and "H4294967297" as 1, and played a 1-pixel frame.
     for (const std::string size :
-         {"W1e9 H48", "W64 H4294967297", "W0 H48", "W64 H", "W70000 H48"}) {
+         {"W1e9 H48", "W64 H4294967297", "W0 H48", "W64 H", "W70000 H48", "W20000 H20000"}) {
         INFO(size);
         const std::string path = scratch.file("bad.y4m");
         {
@@ -191,6 +191,28 @@ TEST_CASE("Y4M: a width or height that is not a whole number of pixels is named"
         REQUIRE(frames.size() == 5);
         CHECK(frames[4].timestampNs == 4 * 33'333'333);
     }
+}
+
+TEST_CASE("an image whose header claims more pixels than a frame may hold is refused at once") {
+    const test::ScratchDir scratch("infocus-test-huge-");
+    std::vector<uint8_t> jpeg;
+    REQUIRE(cv::imencode(".jpg", cv::Mat(48, 64, CV_8UC1, cv::Scalar(90)), jpeg));
+    // The SOF0 frame size patched to 60000 x 60000: 3.6 G pixels for a file of a few hundred
+    // bytes, which the decoder would have allocated and filled.
+    size_t sof = 2;
+    while (sof + 9 < jpeg.size() && !(jpeg[sof] == 0xFF && jpeg[sof + 1] == 0xC0))
+        ++sof;
+    REQUIRE(sof + 9 < jpeg.size());
+    for (const size_t at : {sof + 5, sof + 7})
+        jpeg[at] = 60000 >> 8, jpeg[at + 1] = 60000 & 0xFF;
+    const std::string path = scratch.file("huge.jpg");
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(jpeg.data()),
+               static_cast<std::streamsize>(jpeg.size()));
+    auto src = openPath(path);
+    REQUIRE(!src.ok());
+    CHECK(src.error().kind == ErrorKind::Corrupt);
+    CHECK_THAT(src.error().message, Catch::Contains("huge.jpg") && Catch::Contains("60000x60000"));
 }
 
 TEST_CASE("images: JPEG as MJPEG bytes, PNG as GREY or Y16, directories and globs in order") {
