@@ -166,6 +166,10 @@ Result<RecordingHeader> headerFromJson(const std::string& path, const std::strin
         const auto w = integer(j, "width_px", 1, INT32_MAX);
         const auto ht = w ? integer(j, "height_px", 1, INT32_MAX) : std::nullopt;
         if (!w || !ht) return bad("\"" + field + "\" must be a whole number from 1 up");
+        if (*w * *ht > kMaxFramePixels)
+            return bad("\"width_px\" x \"height_px\", " + std::to_string(*w) + "x" +
+                       std::to_string(*ht) +
+                       ", is more than the 16384 x 16384 pixels a frame may hold");
         h.size = {static_cast<int>(*w), static_cast<int>(*ht)};
         field = "fps";
         h.fps = j.value("fps", 0.0);

@@ -352,7 +352,7 @@ TEST_CASE("bad recordings fail with errors that name the file and the problem") 
             {"infocus_version", "1e308"}, {"format_version", "-4294967295"},
             {"format_version", "1.5"},    {"width_px", "\"16\""},
             {"height_px", "1e308"},       {"width_px", "4294967312"},
-            {"created_unix_s", "1e308"},
+            {"created_unix_s", "1e308"},  {"width_px", "40000000"},
         };
         for (const auto& [key, value] : edits) {
             INFO(key << ": " << value);
