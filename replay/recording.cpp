@@ -315,13 +315,17 @@ Status RecordingWriter::append(const Frame& frame) {
     do {
         n = ::writev(fd_, iov, static_cast<int>(frame.numPlanes + 1));
     } while (n < 0 && errno == EINTR);
-    if (n < 0) {
-        const int e = errno;
+    // Said alike whether the first write or a later part of it fails (a disk that fills up
+    // part-way through a frame): what is kept, and what to do.
+    const auto failed = [&](int e) {
         return makeError(ErrorKind::Io,
                          "cannot write frame " + std::to_string(frames_) + " to " + path_ + ": " +
-                             errnoText(e) + "; check free disk space",
+                             errnoText(e) + "; the " + std::to_string(frames_) +
+                             " frames before it are kept and replay; free disk space or record "
+                             "to another disk",
                          e);
-    }
+    };
+    if (n < 0) return failed(errno);
     size_t written = static_cast<size_t>(n);
     for (unsigned i = 0; i < frame.numPlanes + 1 && written < total; ++i) {
         size_t skip = written;
@@ -330,11 +334,8 @@ Status RecordingWriter::append(const Frame& frame) {
             before += iov[k].iov_len;
         if (skip >= before + iov[i].iov_len) continue;
         skip -= before;
-        if (!writeAll(fd_, static_cast<uint8_t*>(iov[i].iov_base) + skip, iov[i].iov_len - skip)) {
-            const int e = errno;
-            return makeError(ErrorKind::Io, "cannot write frame to " + path_ + ": " + errnoText(e),
-                             e);
-        }
+        if (!writeAll(fd_, static_cast<uint8_t*>(iov[i].iov_base) + skip, iov[i].iov_len - skip))
+            return failed(errno);
         written += iov[i].iov_len - skip;
     }
     if (h.flags & replay::kFlagDroppedBefore) ++dropped_;

@@ -1,15 +1,18 @@
 // SPDX-License-Identifier: MIT
 // Recordings round-trip bit-exact with their metadata for every pixel format (MJPEG with a real
 // JPEG), and damaged recordings replay their intact frames and report the damage.
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <turbojpeg.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -271,6 +274,46 @@ TEST_CASE("a truncated recording replays its complete frames and reports the tor
     REQUIRE(r2.ok());
     REQUIRE((*r2)->frameCount() == 2);
     REQUIRE_THAT(*(*r2)->damage(), Catch::Contains("frame 2"));
+}
+
+TEST_CASE("a disk that fills up mid-frame keeps the frames before it and says what to do") {
+    // The file size limit stands in for a full disk: past it a write fails (EFBIG) as it would
+    // with ENOSPC, part-way through the fourth frame's record.
+    const std::string dir = tempDir("full");
+    auto w = RecordingWriter::create(dir, header(PixelFormat::GREY, {16, 8}));
+    REQUIRE(w.ok());
+    rlimit saved{};
+    REQUIRE(::getrlimit(RLIMIT_FSIZE, &saved) == 0);
+    const auto previous = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit small = saved;
+    small.rlim_cur = 3 * kGreyRecord + 50;
+    REQUIRE(::setrlimit(RLIMIT_FSIZE, &small) == 0);
+    std::optional<Error> failure;
+    int appended = 0;
+    for (int i = 0; i < 6 && !failure; ++i) {
+        Frame f = patterned(PixelFormat::GREY, {16, 8}, 0, static_cast<uint64_t>(i));
+        f.sequence = static_cast<uint64_t>(i);
+        f.timestampNs = i * 40'000'000LL;
+        auto r = (*w)->append(f);
+        if (r.ok())
+            ++appended;
+        else
+            failure = r.error();
+    }
+    ::setrlimit(RLIMIT_FSIZE, &saved);
+    std::signal(SIGXFSZ, previous);
+    w->reset();
+    REQUIRE(appended == 3);
+    REQUIRE(failure.has_value());
+    CHECK(failure->kind == ErrorKind::Io);
+    CHECK_THAT(failure->message, Catch::Contains("cannot write frame 3 to " + dir) &&
+                                     Catch::Contains("the 3 frames before it are kept") &&
+                                     Catch::Contains("free disk space"));
+    // And they are: three frames replay, the torn fourth is reported.
+    auto r = RecordingReader::open(dir);
+    REQUIRE(r.ok());
+    CHECK((*r)->frameCount() == 3);
+    CHECK((*r)->damage().has_value());
 }
 
 TEST_CASE("a corrupt frame is reported and skipped, the others replay") {
