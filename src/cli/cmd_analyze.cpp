@@ -2,10 +2,14 @@
 // `infocus analyze`: per-region sharpness and blur width of every frame of a source, as JSONL or
 // CSV, written frame by frame so that nothing measured is lost when a later frame fails.
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include "commands.h"
 #include "infocus/analysis.h"
@@ -176,19 +180,42 @@ int runAnalyze(const AnalyzeArgs& args) {
                                                                  "is writable"));
     }
     std::ostream& out = file.is_open() ? static_cast<std::ostream&>(file) : std::cout;
+    const std::string where = file.is_open() ? args.output : "standard output";
     uint64_t written = 0, damaged = 0;
+    std::streamoff complete = 0;  // bytes of the frames written whole
     const Status st = analyzeSource(
         args.source, options, args.frames,
         [&](const FrameAnalysis& a) -> Status {
+            std::ostringstream text;
             if (args.format == "csv")
-                writeCsv(out, a, written == 0);
+                writeCsv(text, a, written == 0);
             else if (args.format == "table")
-                writeTable(out, a, options.rois.empty());
+                writeTable(text, a, options.rois.empty());
             else
-                out << toJsonLine(a) << '\n';
+                text << toJsonLine(a) << '\n';
+            const std::string bytes = text.str();
+            errno = 0;
+            out << bytes;
             out.flush();  // a frame measured is a frame kept
+            if (!out) {
+                const int e = errno;
+                // A disk that fills up leaves part of this frame: cut it off, so that the file
+                // ends with the last whole frame (a JSONL reader then reads every line).
+                if (file.is_open()) {
+                    file.close();
+                    std::error_code ec;
+                    std::filesystem::resize_file(args.output, static_cast<uintmax_t>(complete), ec);
+                }
+                return makeError(ErrorKind::Io,
+                                 "writing frame " + std::to_string(written) + " to " + where +
+                                     " failed" + (e ? std::string(": ") + std::strerror(e) : "") +
+                                     (written ? "; the " + std::to_string(written) +
+                                                    " frame(s) before it are complete there"
+                                              : std::string()) +
+                                     "; free disk space or write elsewhere (-o FILE)");
+            }
+            complete += static_cast<std::streamoff>(bytes.size());
             ++written;
-            if (!out) return makeError(ErrorKind::Io, "writing the results failed");
             return {};
         },
         [&](const Error& e) {

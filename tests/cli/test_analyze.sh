@@ -92,5 +92,27 @@ e=$("$bin" analyze "$tmp/nothing-here.jpg" 2>&1)
 s=$?
 [[ $s -eq 1 ]] && grep -q "nothing-here.jpg" <<<"$e" && ok || bad "missing file -> $s: $e"
 
+# A disk that fills up mid-frame (a file size limit of 40 kB stands in for it; the signal it
+# raises is ignored, as a full disk raises none): exit 1, the frame and the file named, and the
+# file cut back to the frames written whole, so that every line of it reads.
+e=$( (trap '' XFSZ; ulimit -f 40; "$bin" analyze "sim:size=320x240,pace=fast" --frames 20 \
+	--grid 16x9 --no-blur -o "$tmp/full.jsonl") 2>&1)
+s=$?
+[[ $s -eq 1 ]] && grep -q "writing frame [1-9] to $tmp/full.jsonl failed" <<<"$e" &&
+	grep -q "frame(s) before it are complete there" <<<"$e" && ok || bad "full disk -> $s: $e"
+if python3 - "$tmp/full.jsonl" <<'PY'; then ok; else bad "full disk: torn last line kept"; fi
+import json, sys
+lines = open(sys.argv[1]).read().split("\n")
+assert lines[-1] == "", "the file does not end with a whole line"
+assert len(lines) > 1
+for line in lines[:-1]:
+    json.loads(line)
+PY
+# Standard output that takes nothing (/dev/full): the same error, not a crash.
+e=$("$bin" analyze "sim:size=64x48,pace=fast" --frames 2 --grid 2x2 --no-blur 2>&1 >/dev/full)
+s=$?
+[[ $s -eq 1 ]] && grep -q "writing frame 0 to standard output failed" <<<"$e" && ok ||
+	bad "/dev/full -> $s: $e"
+
 echo "analyze: $pass passed, $fail failed"
 [[ $fail -eq 0 ]]
