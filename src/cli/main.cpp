@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 // The infocus executable: parses the command line and runs one subcommand. All work is in the
 // library; this file only decides the exit status.
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <string>
 
@@ -68,7 +71,19 @@ int main(int argc, char** argv) {
         }
         return infocus::cli::kExitUsage;
     }
-    for (const auto& c : commands)
-        if (c.app->parsed()) return c.run();
+    for (const auto& c : commands) {
+        if (!c.app->parsed()) continue;
+        const int rc = c.run();
+        // Output that could not be written (a full disk, /dev/full) is a failure, not a silent
+        // success with an empty report. A command that failed has said why already.
+        errno = 0;
+        const bool flushed = std::fflush(stdout) == 0;
+        if (rc != 0 || (flushed && !std::ferror(stdout) && std::cout.good())) return rc;
+        const int e = errno;
+        std::cerr << "infocus " << command << ": writing to standard output failed"
+                  << (e ? std::string(": ") + std::strerror(e) : std::string())
+                  << "; free disk space or write elsewhere\n";
+        return infocus::cli::kExitFailure;
+    }
     return infocus::cli::kExitUsage;
 }

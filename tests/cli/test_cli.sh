@@ -29,5 +29,23 @@ expect 2 'empty argument follows --coc' -- dof --focal 50mm -N 8 --focus 2m --co
 expect 2 'value of --focal is empty' -- dof --focal= -N 8 --focus 2m --coc 0.03mm
 expect 2 'empty argument follows --blur-floor' -- depth - --blur-floor ''
 expect 2 'argument is empty' -- analyze ''
+# Output that cannot be written (/dev/full takes nothing) fails with the reason; it exited 0
+# with the report lost.
+full() { # full PATTERN -- ARGS...
+	local pat=$1
+	shift 2
+	local err st
+	err=$("$bin" "$@" 2>&1 >/dev/full)
+	st=$?
+	if [[ $st -eq 1 ]] && grep -qE -- "$pat" <<<"$err"; then
+		pass=$((pass + 1))
+	else
+		echo "FAIL: infocus $* >/dev/full -> status $st (want 1): $err"
+		fail=$((fail + 1))
+	fi
+}
+full 'infocus dof: writing to standard output failed' -- dof --lens rpi-cam3 --focus 1m
+full 'infocus dof: writing to standard output failed' -- dof --lens rpi-cam3 --focus 1m --json
+full 'infocus devices: writing to standard output failed' -- devices
 echo "cli: $pass passed, $fail failed"
 [[ $fail -eq 0 ]]
