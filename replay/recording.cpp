@@ -224,6 +224,11 @@ Result<std::unique_ptr<RecordingWriter>> RecordingWriter::create(const std::stri
                                                    "remove the old recording first");
     } else if (::mkdir(dir.c_str(), 0777) != 0) {
         const int e = errno;
+        // A file of that name (often a mistyped -o): say so, rather than blame the parent.
+        if (e == EEXIST)
+            return makeError(ErrorKind::Usage, "output " + dir +
+                                                   " exists and is not a directory; give a new "
+                                                   "or empty directory for the recording");
         return makeError(ErrorKind::Io,
                          "cannot create recording directory " + dir + ": " + errnoText(e) +
                              "; check that the parent directory exists and is writable",

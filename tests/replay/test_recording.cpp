@@ -426,6 +426,15 @@ TEST_CASE("bad recordings fail with errors that name the file and the problem") 
         REQUIRE(!s.ok());
         REQUIRE(s.error().kind == ErrorKind::NotFound);
     }
+    SECTION("the writer names a file given as the output directory") {
+        // It said "check that the parent directory exists and is writable", which it was.
+        const std::string file = tempDir("file");
+        std::ofstream(file) << "not a directory";
+        auto w = RecordingWriter::create(file, header(PixelFormat::GREY, {16, 8}));
+        REQUIRE(!w.ok());
+        CHECK(w.error().kind == ErrorKind::Usage);
+        CHECK_THAT(w.error().message, Catch::Contains(file + " exists and is not a directory"));
+    }
     SECTION("the writer refuses a directory that holds files") {
         const std::string dir = writeGrey(1);
         auto w = RecordingWriter::create(dir, header(PixelFormat::GREY, {16, 8}));
