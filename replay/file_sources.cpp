@@ -9,7 +9,6 @@
 #include <dirent.h>
 #include <algorithm>
 #include <cerrno>
-#include <charconv>
 #include <climits>
 #include <cmath>
 #include <cstring>
@@ -27,6 +26,7 @@
 #include "replay/playback.h"
 #include "replay/recording_format.h"
 #include "replay/replay_sources.h"
+#include "src/core/read_number.h"
 
 namespace infocus::replay {
 
@@ -49,9 +49,7 @@ std::string extension(const std::string& path) {
 // "4294967297"), which atoi would have read as some other number.
 std::optional<int> wholeNumber(std::string_view text, int lo, int hi) {
     int v = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
-        return std::nullopt;
+    if (!readsWhole(text, v) || v < lo || v > hi) return std::nullopt;
     return v;
 }
 
@@ -170,7 +168,7 @@ public:
         }
         if (r->size_.width <= 0 || r->size_.height <= 0)
             return bad("its header has no positive width (W) and height (H)");
-        if (int64_t{r->size_.width} * r->size_.height > kMaxFramePixels)
+        if (!withinFrameLimit(r->size_.width, r->size_.height))
             return bad("its header's " + std::to_string(r->size_.width) + "x" +
                        std::to_string(r->size_.height) +
                        " is more than the 16384 x 16384 pixels a frame may hold");
@@ -345,7 +343,7 @@ Result<Frame> loadImage(const std::string& path) {
         if (rc != 0) return damaged("is not a readable JPEG (" + why + ")");
         // A file cut inside its header may still parse without a frame size.
         if (w <= 0 || h <= 0) return damaged("is a JPEG cut short before its frame size");
-        if (int64_t{w} * h > kMaxFramePixels)
+        if (!withinFrameLimit(w, h))
             return damaged("claims " + std::to_string(w) + "x" + std::to_string(h) +
                            " pixels, more than the 16384 x 16384 a frame may hold");
         Frame f = makeCompressedFrame(PixelFormat::MJPEG, {w, h}, bytes->data(), bytes->size());

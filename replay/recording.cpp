@@ -19,6 +19,7 @@
 #include "infocus/recording.h"
 #include "infocus_config.h"
 #include "replay/recording_format.h"
+#include "src/core/read_number.h"
 
 namespace infocus {
 
@@ -121,17 +122,11 @@ Result<RecordingHeader> headerFromJson(const std::string& path, const std::strin
     // The field being read: nlohmann's type errors do not name it, and the user needs to know
     // which one is damaged.
     std::string field;
-    // An integer field within [lo, hi]: a float or an integer past int would otherwise be cast
-    // silently (4294967297 read as 1) or, for a float past int's range, undefined.
+    // An integer field within [lo, hi] (jsonInteger), the field noted first.
     const auto integer = [&](const nlohmann::json& o, const char* key, int64_t lo,
                              int64_t hi) -> std::optional<int64_t> {
         field = key;
-        const auto& v = o.at(key);
-        if (!v.is_number_integer()) return std::nullopt;
-        const auto x =
-            v.is_number_unsigned() && v.get<uint64_t>() > INT64_MAX ? INT64_MAX : v.get<int64_t>();
-        if (x < lo || x > hi) return std::nullopt;
-        return x;
+        return jsonInteger(o.at(key), lo, hi);
     };
     RecordingHeader h;
     try {
@@ -166,7 +161,7 @@ Result<RecordingHeader> headerFromJson(const std::string& path, const std::strin
         const auto w = integer(j, "width_px", 1, INT32_MAX);
         const auto ht = w ? integer(j, "height_px", 1, INT32_MAX) : std::nullopt;
         if (!w || !ht) return bad("\"" + field + "\" must be a whole number from 1 up");
-        if (*w * *ht > kMaxFramePixels)
+        if (!withinFrameLimit(*w, *ht))
             return bad("\"width_px\" x \"height_px\", " + std::to_string(*w) + "x" +
                        std::to_string(*ht) +
                        ", is more than the 16384 x 16384 pixels a frame may hold");

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "infocus/analysis.h"
+#include "src/core/read_number.h"
 
 namespace infocus {
 
@@ -67,16 +68,10 @@ struct BadField {
     std::string why;
 };
 
-// The integer @p key of @p o within [@p lo, @p hi]. A float, or an integer past int, would
-// otherwise be cast silently (or, for a float past int's range, undefinedly).
+// The integer @p key of @p o within [@p lo, @p hi] (jsonInteger), or BadField naming it.
 int64_t integer(const Json& o, const char* key, int64_t lo, int64_t hi) {
     const Json& v = o.at(key);
-    // An unsigned value past INT64_MAX is out of every range asked for here.
-    const bool inRange =
-        v.is_number_integer() &&
-        (!v.is_number_unsigned() || v.get<uint64_t>() <= static_cast<uint64_t>(INT64_MAX)) &&
-        v.get<int64_t>() >= lo && v.get<int64_t>() <= hi;
-    if (inRange) return v.get<int64_t>();
+    if (const auto x = jsonInteger(v, lo, hi)) return *x;
     // Appended piece by piece: GCC 12 warns (-Wrestrict) on a chain of + here.
     std::string why = "\"";
     why += key;
