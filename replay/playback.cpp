@@ -225,9 +225,7 @@ Result<std::unique_ptr<FrameSource>> makePlayback(std::unique_ptr<FrameReader> r
         first = *options.startFrame;
     } else if (options.startS) {
         const int64_t t0 = reader->timestampNs(0);
-        // llround past int64's range is unspecified: start=1e30s played from the first frame.
-        const double ns = *options.startS * 1e9;
-        const int64_t target = ns >= 9.2e18 ? INT64_MAX : static_cast<int64_t>(std::llround(ns));
+        const int64_t target = saturatedNs(*options.startS * 1e9);
         while (first < n && reader->timestampNs(first) - t0 < target)
             ++first;
         if (first >= n) {

@@ -4,6 +4,7 @@
 /// looping with monotonic timestamps, and seeking, shared by every file source.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -60,6 +61,12 @@ Result<std::unique_ptr<FrameSource>> makePlayback(std::unique_ptr<FrameReader> r
 
 /// Parses a non-negative decimal number; nullopt when @p text is not one entirely.
 std::optional<double> parseNumber(const std::string& text);
+
+/// @p ns nanoseconds as an int64_t, rounded; INT64_MAX past its range (llround is unspecified
+/// there: start=1e30s played from the first frame, a long time-lapse run wrapped its timestamps).
+inline int64_t saturatedNs(double ns) {
+    return ns >= 9.2e18 ? INT64_MAX : static_cast<int64_t>(std::llround(ns));
+}
 
 /// Frame rates a source option may give (`fps=`), frames per second: from one frame in about
 /// 11.6 days (time-lapse) to a million a second, so that a frame period in nanoseconds stays

@@ -618,9 +618,7 @@ public:
             }
         }
         frame->sequence = seq;
-        // Saturated: at a time-lapse rate a long run passes int64's nanoseconds.
-        const double t = static_cast<double>(seq) * 1e9 / c.fps;
-        frame->timestampNs = t < 9.2e18 ? static_cast<int64_t>(std::llround(t)) : INT64_MAX;
+        frame->timestampNs = replay::saturatedNs(static_cast<double>(seq) * 1e9 / c.fps);
         frame->lens = LensPosition{dioptres, "dioptre", dioptres};
         if (c.paced) {
             const auto due =

@@ -102,6 +102,12 @@ struct FrameLayout {
 /// memory is taken.
 inline constexpr int64_t kMaxFramePixels = int64_t{1} << 28;
 
+/// Whether a frame of @p width × @p height pixels (each at most INT32_MAX) stays within
+/// kMaxFramePixels; the product is taken in 64 bits, so that a header's size cannot wrap it.
+constexpr bool withinFrameLimit(int64_t width, int64_t height) {
+    return width * height <= kMaxFramePixels;
+}
+
 /// Computes the tight layout of @p format at @p size with the first plane's stride @p stride
 /// (0: minimal). Chroma planes' strides follow the V4L2 convention. Fails for MJPEG (no fixed
 /// layout), unknown formats, sizes past kMaxFramePixels, odd sizes a subsampled format forbids,

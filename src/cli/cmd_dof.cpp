@@ -89,10 +89,10 @@ void printTable(const optics::DofResult& r, const optics::DofInput& in,
     std::printf("  near ≈ H'u/(H'+u) %s\n", formatDistance(r.approximate.nearLimit).c_str());
     std::printf("  far  ≈ H'u/(H'−u) %s\n", formatDistance(r.approximate.farLimit).c_str());
     const double airyInCoc = r.airyDisc / in.coc;
-    std::printf(airyInCoc < 1e3
-                    ? "\n  diffraction       Airy disc %s at %g nm (2.44 λN), %.2f × the CoC\n"
-                    : "\n  diffraction       Airy disc %s at %g nm (2.44 λN), %.3g × the CoC\n",
-                formatSensorLength(r.airyDisc).c_str(), in.wavelength * 1e9, airyInCoc);
+    char ratio[32];  // two decimals; past 1000 an exponent (f/1e300 gave 300 digits)
+    std::snprintf(ratio, sizeof ratio, airyInCoc < 1e3 ? "%.2f" : "%.3g", airyInCoc);
+    std::printf("\n  diffraction       Airy disc %s at %g nm (2.44 λN), %s × the CoC\n",
+                formatSensorLength(r.airyDisc).c_str(), in.wavelength * 1e9, ratio);
     if (r.withDiffraction)
         std::printf("  with diffraction  %s to %s  (defocus² + Airy² ≤ CoC²)\n",
                     formatDistance(r.withDiffraction->nearLimit).c_str(),

@@ -82,7 +82,7 @@ Result<FrameLayout> frameLayout(PixelFormat format, Size size, size_t stride) {
     if (size.width <= 0 || size.height <= 0) return fail("size must be positive");
     const auto w = static_cast<size_t>(size.width);
     const auto h = static_cast<size_t>(size.height);
-    if (static_cast<int64_t>(w * h) > kMaxFramePixels)
+    if (!withinFrameLimit(size.width, size.height))
         return fail("more pixels than the " + std::to_string(kMaxFramePixels) +
                     " (16384 x 16384) a frame may hold");
     size_t minStride = 0;

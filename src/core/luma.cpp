@@ -120,7 +120,7 @@ struct LumaConverter::Impl {
         if (w <= 0 || h <= 0)
             return makeError(ErrorKind::Corrupt,
                              describe(f) + ": JPEG cut short before its frame size");
-        if (int64_t{w} * h > kMaxFramePixels)
+        if (!withinFrameLimit(w, h))
             return makeError(ErrorKind::Corrupt,
                              describe(f) + ": its JPEG header claims " + std::to_string(w) + "x" +
                                  std::to_string(h) +
