@@ -42,6 +42,20 @@ void count(const std::vector<BlurEstimate>& blur, double discPx, long& measured,
         }
 }
 
+// Regions of @p blur whose blur was measured.
+int withEdge(const std::vector<BlurEstimate>& blur) {
+    return static_cast<int>(std::count_if(
+        blur.begin(), blur.end(), [](const BlurEstimate& b) { return b.sigmaPx.has_value(); }));
+}
+
+// What a blur row's note says when the scalar reference run measured @p baseline regions where
+// the AVX2 run measured @p measured: nothing when they agree, as the same sums must.
+std::string kernelAgreement(int measured, int baseline) {
+    return baseline == measured
+               ? ""
+               : " (the scalar run found " + std::to_string(baseline) + ": a kernel bug)";
+}
+
 // A stream through BlurTracker: a focus pull over the scene, the disc growing from 4 to 12 px and
 // back by 1 px a frame (a fast pull: the whole range in half a second at 30 frames a second),
 // each frame with its own noise. The baseline searches every region of every frame, as
@@ -87,12 +101,6 @@ void benchBlurStream(const BenchOptions& options, const RowSink& sink,
                   "measureBlurRegions on every frame (every region searched)", note});
 }
 
-// Regions of @p blur whose blur was measured.
-int withEdge(const std::vector<BlurEstimate>& blur) {
-    return static_cast<int>(std::count_if(
-        blur.begin(), blur.end(), [](const BlurEstimate& b) { return b.sigmaPx.has_value(); }));
-}
-
 // @p image as a 1920×1080 frame: itself when it is one, else scaled by area averaging (each
 // output pixel the mean of the input pixels it covers, as a sensor's binning would).
 Image<uint8_t> toFullHd(const Image<uint8_t>& image) {
@@ -133,9 +141,7 @@ void benchBlurImages(const BenchOptions& options, const std::string& input,
                       measured, images[i].width(), images[i].height());
         std::string text = note;
         if (images[i].width() != w || images[i].height() != h) text += " scaled to 1920x1080";
-        if (baselineMeasured != measured)
-            text +=
-                " (the scalar run found " + std::to_string(baselineMeasured) + ": a kernel bug)";
+        text += kernelAgreement(measured, baselineMeasured);
         BenchRow row{"blur_image", w, h, ms, baseMs, "the same engine, scalar reference kernels",
                      text};
         row.input = input;
@@ -209,23 +215,15 @@ void benchBlur(const BenchOptions& options, const RowSink& sink) {
         // absolute blur width per region to compare with.
         int measured = 0, baselineMeasured = 0;
         const auto timeWith = [&](const BlurOptions& o, int& count) {
-            return medianMs(
-                [&] {
-                    count = 0;
-                    for (const BlurEstimate& b : measureBlurRegions(view, regions, o))
-                        count += b.sigmaPx.has_value();
-                },
-                options.secondsPerCase);
+            return medianMs([&] { count = withEdge(measureBlurRegions(view, regions, o)); },
+                            options.secondsPerCase);
         };
         BlurOptions scalar;
         scalar.simd = false;
         const double ms = timeWith(BlurOptions{}, measured);
         const double baseMs = timeWith(scalar, baselineMeasured);
         // Both kernels give the same sums, so both runs must find edges in the same regions.
-        const std::string agree =
-            baselineMeasured == measured
-                ? ""
-                : " (the scalar run found " + std::to_string(baselineMeasured) + ": a kernel bug)";
+        const std::string agree = kernelAgreement(measured, baselineMeasured);
         char blurNote[64];
         std::snprintf(blurNote, sizeof blurNote, ", frame blurred by a %.0f px disc", discPx);
         BenchRow row{"blur",
