@@ -127,6 +127,53 @@ TEST_CASE("a 16x9 grid on dead-leaves texture measures nearly every region near 
     }
 }
 
+TEST_CASE("a region's confidence ranks how far its reading may be from the true blur", "[blur]") {
+    // What a user reads confidence for: which regions to believe. On scenes of known blur (dead
+    // leaves, discs of 4, 8 and 12 px; chequerboards of 16 and 32 px cells turned by 5°, discs of
+    // 4 and 8 px), 8×5 regions of 960×540, the regions are pooled by confidence below 0.25,
+    // 0.25–0.5 and from 0.5. Each band must hold enough regions to judge (30), the RMS error of
+    // d must fall band by band (to at most 3/4 of the band below), a reading at 0.5 or more must
+    // be within 10 % in at least two regions of three, and one under 0.25 in at most half.
+    const int w = 960, h = 540;
+    const std::vector<Rect> regions = gridRegions(w, h, 8, 5);
+    int count[3] = {}, within[3] = {};
+    double squares[3] = {};
+    const auto pool = [&](const synth::SharpCanvas& canvas, double d) {
+        const auto img =
+            synth::toLuma8(synth::renderSharp(canvas, {synth::Psf::disc(d), 2, 1.0, 7}).pixels);
+        for (const BlurEstimate& b : measureBlurRegions(img.view(), regions)) {
+            if (!b.discDiameterPx) continue;
+            const int band = b.confidence < 0.25 ? 0 : b.confidence < 0.5 ? 1 : 2;
+            const double err = *b.discDiameterPx / d - 1.0;
+            ++count[band];
+            squares[band] += err * err;
+            within[band] += std::abs(err) <= 0.10;
+        }
+    };
+    synth::SharpCanvas leaves = synth::makeCanvas(w, h, 2);
+    synth::paintDeadLeaves(leaves, 2024, 4.0, 120.0);
+    for (double d : {4.0, 8.0, 12.0})
+        pool(leaves, d);
+    for (double cell : {16.0, 32.0}) {
+        synth::SharpCanvas board = synth::makeCanvas(w, h, 2);
+        synth::paint(board, synth::checkerboardScene(cell, 5.0, 40.0f, 200.0f));
+        for (double d : {4.0, 8.0})
+            pool(board, d);
+    }
+    double rms[3];
+    for (int band = 0; band < 3; ++band) {
+        INFO("band " << band << ": " << count[band] << " regions, " << within[band]
+                     << " within 10 %");
+        REQUIRE(count[band] >= 30);
+        rms[band] = std::sqrt(squares[band] / count[band]);
+    }
+    INFO("RMS error of d by band: " << rms[0] << ", " << rms[1] << ", " << rms[2]);
+    CHECK(rms[1] <= 0.75 * rms[0]);
+    CHECK(rms[2] <= 0.75 * rms[1]);
+    CHECK(3 * within[2] >= 2 * count[2]);
+    CHECK(2 * within[0] <= count[0]);
+}
+
 TEST_CASE("thin lines stronger than the region's edge do not use up its attempts", "[blur]") {
     // Eight dark lines 3 px wide (wires, traces, text strokes), each with twice the gradient of
     // the one step edge at x = 165, blurred by a 3 px disc. A line's ESF has no two plateaus, so
