@@ -123,7 +123,8 @@ void writeTable(std::ostream& out, const FrameAnalysis& a, bool grid) {
     out << "  sharpness (" << a.metric << ", % of the sharpest region)";
     for (int c = 0; c < std::max(0, cols * 5 - 38); ++c)
         out << ' ';
-    out << "   blur width, px (disc diameter; - no edge)\n";
+    out << "   blur width, px (disc diameter; (w) confidence under " << kLowBlurConfidence
+        << "; - no edge)\n";
     for (int row = 0; row < rows; ++row) {
         out << "  ";
         for (int c = 0; c < cols; ++c) {
@@ -134,7 +135,13 @@ void writeTable(std::ostream& out, const FrameAnalysis& a, bool grid) {
         out << "   ";
         for (int c = 0; c < cols; ++c) {
             const auto& r = a.regions[static_cast<size_t>(row * cols + c)];
-            if (r.blurWidthPx)
+            if (r.blurWidthPx && r.confidence < kLowBlurConfidence) {
+                // In parentheses: a width to take with caution (kLowBlurConfidence).
+                char low[32];
+                std::snprintf(low, sizeof low, *r.blurWidthPx < 99.95 ? "(%.1f)" : "(%.0f)",
+                              *r.blurWidthPx);
+                std::snprintf(buf, sizeof buf, "%6s", low);
+            } else if (r.blurWidthPx)
                 std::snprintf(buf, sizeof buf, "%6.1f", *r.blurWidthPx);
             else
                 std::snprintf(buf, sizeof buf, "%6s", "-");

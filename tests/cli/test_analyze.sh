@@ -40,6 +40,32 @@ csv=$("$bin" analyze "$tmp/good" --grid 2x2 --format csv --no-blur)
 
 "$bin" analyze "$tmp/good" --grid 3x2 --format table --no-blur --frames 1 | grep -q "sharpness (teng" && ok || bad "table"
 
+# The table's blur grid: each region's width as the JSONL gives it to 0.1 px, in parentheses where
+# its confidence is under 0.25 (kLowBlurConfidence), "-" where it has none. The simulated steps
+# scene has regions of both kinds.
+"$bin" analyze sim:scene=steps --frames 1 --grid 8x4 --format table >"$tmp/steps.txt" &&
+	"$bin" analyze sim:scene=steps --frames 1 --grid 8x4 >"$tmp/steps.jsonl" && ok ||
+	bad "analyze steps table and JSONL"
+if python3 - "$tmp/steps.txt" "$tmp/steps.jsonl" <<'PY'; then ok; else bad "table blur cells"; fi
+import json, sys
+lines = open(sys.argv[1]).read().splitlines()
+assert "(w) confidence under 0.25" in lines[1], lines[1]
+regions = json.loads(open(sys.argv[2]).readline())["regions"]
+low = high = 0
+for r in regions:
+    cell = lines[2 + r["row"]].split()[8 + r["col"]]
+    w, c = r["blur_width_px"], r["confidence"]
+    if w is None:
+        assert cell == "-", (r, cell)
+    elif c < 0.25:
+        assert cell == "(%.1f)" % w, (r, cell)
+        low += 1
+    else:
+        assert cell == "%.1f" % w, (r, cell)
+        high += 1
+assert low > 0 and high > 0, (low, high)
+PY
+
 # A damaged frame: skipped and named, the intact ones still written, exit 1.
 "$bin" analyze "$tmp" --grid 2x2 --no-blur -o "$tmp/out.jsonl" 2>"$tmp/err"
 st=$?
