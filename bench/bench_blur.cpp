@@ -198,12 +198,8 @@ void benchBlurImages(const BenchOptions& options, const std::string& input,
 }
 
 void benchBlur(const BenchOptions& options, const RowSink& sink) {
-    const int w = 1920, h = 1080, cols = 16, rows = 9;
-    std::vector<Rect> regions;
-    for (int r = 0; r < rows; ++r)
-        for (int c = 0; c < cols; ++c)
-            regions.push_back(Rect{c * w / cols, r * h / rows, (c + 1) * w / cols - c * w / cols,
-                                   (r + 1) * h / rows - r * h / rows});
+    const int w = 1920, h = 1080;
+    const std::vector<Rect> regions = gridRegions(w, h, 16, 9);
     // The engine samples each edge over about ±4.5 σ of its blur, so its time grows with the
     // blur: a frame near focus (a 4 px disc) and one well out of focus (12 px).
     const synth::SharpCanvas scene = makeScene(w, h);
