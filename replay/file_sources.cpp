@@ -170,8 +170,8 @@ public:
             return bad("its header has no positive width (W) and height (H)");
         if (!withinFrameLimit(r->size_.width, r->size_.height))
             return bad("its header's " + std::to_string(r->size_.width) + "x" +
-                       std::to_string(r->size_.height) +
-                       " is more than the 16384 x 16384 pixels a frame may hold");
+                       std::to_string(r->size_.height) + " is more than the " + maxFrameSizeText() +
+                       " pixels a frame may hold");
         // A rate past those a source option may give would overflow the frames' timestamps.
         const double fps = static_cast<double>(fpsNum) / fpsDen;
         r->fps_ = fps >= kMinFps && fps <= kMaxFps ? fps : 0.0;
@@ -345,7 +345,7 @@ Result<Frame> loadImage(const std::string& path) {
         if (w <= 0 || h <= 0) return damaged("is a JPEG cut short before its frame size");
         if (!withinFrameLimit(w, h))
             return damaged("claims " + std::to_string(w) + "x" + std::to_string(h) +
-                           " pixels, more than the 16384 x 16384 a frame may hold");
+                           " pixels, more than the " + maxFrameSizeText() + " a frame may hold");
         Frame f = makeCompressedFrame(PixelFormat::MJPEG, {w, h}, bytes->data(), bytes->size());
         f.origin = path;
         return f;

@@ -163,8 +163,8 @@ Result<RecordingHeader> headerFromJson(const std::string& path, const std::strin
         if (!w || !ht) return bad("\"" + field + "\" must be a whole number from 1 up");
         if (!withinFrameLimit(*w, *ht))
             return bad("\"width_px\" x \"height_px\", " + std::to_string(*w) + "x" +
-                       std::to_string(*ht) +
-                       ", is more than the 16384 x 16384 pixels a frame may hold");
+                       std::to_string(*ht) + ", is more than the " + maxFrameSizeText() +
+                       " pixels a frame may hold");
         h.size = {static_cast<int>(*w), static_cast<int>(*ht)};
         field = "fps";
         h.fps = j.value("fps", 0.0);

@@ -97,10 +97,17 @@ struct FrameLayout {
     size_t totalSize = 0;
 };
 
+/// Side of the largest square frame; kMaxFramePixels is its square.
+inline constexpr int kMaxFrameSide = 16384;
 /// Most pixels a frame may hold (2^28, 268 megapixels, 16384 x 16384): past any camera's sensor.
 /// A damaged header that claims more (a JPEG of 60000 x 60000 in 30 kB) is refused before its
 /// memory is taken.
-inline constexpr int64_t kMaxFramePixels = int64_t{1} << 28;
+inline constexpr int64_t kMaxFramePixels = int64_t{kMaxFrameSide} * kMaxFrameSide;
+
+/// The frame limit as messages give it: "16384 x 16384".
+inline std::string maxFrameSizeText() {
+    return std::to_string(kMaxFrameSide) + " x " + std::to_string(kMaxFrameSide);
+}
 
 /// Whether a frame of @p width × @p height pixels (each at most INT32_MAX) stays within
 /// kMaxFramePixels; the product is taken in 64 bits, so that a header's size cannot wrap it.

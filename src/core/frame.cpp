@@ -83,8 +83,8 @@ Result<FrameLayout> frameLayout(PixelFormat format, Size size, size_t stride) {
     const auto w = static_cast<size_t>(size.width);
     const auto h = static_cast<size_t>(size.height);
     if (!withinFrameLimit(size.width, size.height))
-        return fail("more pixels than the " + std::to_string(kMaxFramePixels) +
-                    " (16384 x 16384) a frame may hold");
+        return fail("more pixels than the " + std::to_string(kMaxFramePixels) + " (" +
+                    maxFrameSizeText() + ") a frame may hold");
     size_t minStride = 0;
     bool chroma420 = false;
     switch (format) {

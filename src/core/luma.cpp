@@ -121,10 +121,10 @@ struct LumaConverter::Impl {
             return makeError(ErrorKind::Corrupt,
                              describe(f) + ": JPEG cut short before its frame size");
         if (!withinFrameLimit(w, h))
-            return makeError(ErrorKind::Corrupt,
-                             describe(f) + ": its JPEG header claims " + std::to_string(w) + "x" +
-                                 std::to_string(h) +
-                                 " pixels, more than the 16384 x 16384 a frame may hold");
+            return makeError(ErrorKind::Corrupt, describe(f) + ": its JPEG header claims " +
+                                                     std::to_string(w) + "x" + std::to_string(h) +
+                                                     " pixels, more than the " +
+                                                     maxFrameSizeText() + " a frame may hold");
         auto buf = buffer<uint8_t>(w, h);
         // TJPF_GRAY makes libjpeg-turbo skip IDCT, upsampling and colour conversion of the chroma
         // components: only the Y component is reconstructed.
