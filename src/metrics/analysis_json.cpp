@@ -115,6 +115,10 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
     constexpr int64_t kIntMax = std::numeric_limits<int>::max();
     constexpr double kHuge = std::numeric_limits<double>::max();
     size_t region = 0;  // the region being read, 1-based; 0 while the frame's fields are read
+    // A failure, named by the region being read (if any).
+    const auto failHere = [&](const std::string& why) {
+        return fail((region ? "region " + std::to_string(region) + ": " : std::string()) + why);
+    };
     try {
         FrameAnalysis a;
         a.frame = static_cast<uint64_t>(integer(j, "frame", 0, INT64_MAX));
@@ -155,14 +159,13 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
         }
         return a;
     } catch (const BadField& e) {
-        return fail((region ? "region " + std::to_string(region) + ": " : std::string()) + e.why);
+        return failHere(e.why);
     } catch (const nlohmann::json::exception& e) {
         // nlohmann names the missing key or the type mismatch, after a tag for programmers
         // ("[json.exception.out_of_range.403] ") that a reader of the message does not need.
         const std::string what = e.what();
         const size_t tag = what.rfind("] ", what.find(' '));
-        return fail((region ? "region " + std::to_string(region) + ": " : std::string()) +
-                    (tag == std::string::npos ? what : what.substr(tag + 2)));
+        return failHere(tag == std::string::npos ? what : what.substr(tag + 2));
     }
 }
 
