@@ -43,6 +43,11 @@ struct FrameAnalysis {
     std::vector<RegionResult> regions;
 };
 
+/// Most columns or rows a grid may have (a finer grid's regions hold too few edges to measure).
+inline constexpr int kMaxGridSide = 256;
+/// What a grid may be, for messages: "use 1x1 to 256x256, e.g. 16x9".
+std::string gridLimitText();
+
 /// What to measure on each frame.
 struct AnalysisOptions {
     int cols = 16;                ///< grid columns (ignored when @ref rois is not empty)

@@ -156,7 +156,7 @@ int runAnalyze(const AnalyzeArgs& args) {
     AnalysisOptions options;
     const auto grid = parseGrid(args.grid);
     if (!grid)
-        return usageError(cmd, "--grid " + args.grid + ": give columns x rows, e.g. --grid 16x9");
+        return usageError(cmd, "--grid " + args.grid + ": give columns x rows; " + gridLimitText());
     options.cols = grid->first;
     options.rows = grid->second;
     for (const auto& r : args.rois) {

@@ -284,7 +284,8 @@ int runDepth(const DepthArgs& args) {
         AnalysisOptions options;
         const auto grid = parseGrid(args.grid);
         if (!grid)
-            return usageError(kName, "--grid " + args.grid + ": give columns x rows, e.g. 16x9");
+            return usageError(kName,
+                              "--grid " + args.grid + ": give columns x rows; " + gridLimitText());
         options.cols = grid->first;
         options.rows = grid->second;
         if (const Status st = analyzeSource(args.input, options, args.frames, sink); !st)

@@ -3,6 +3,8 @@
 
 #include <vector>
 
+#include "infocus/analysis.h"
+
 namespace infocus::cli {
 
 namespace {
@@ -25,7 +27,8 @@ std::optional<std::vector<int>> integers(std::string_view text, char sep) {
 
 std::optional<std::pair<int, int>> parseGrid(std::string_view text) {
     auto v = integers(text, 'x');
-    if (!v || v->size() != 2 || (*v)[0] < 1 || (*v)[1] < 1 || (*v)[0] > 999 || (*v)[1] > 999)
+    if (!v || v->size() != 2 || (*v)[0] < 1 || (*v)[1] < 1 || (*v)[0] > kMaxGridSide ||
+        (*v)[1] > kMaxGridSide)
         return std::nullopt;
     return std::pair{(*v)[0], (*v)[1]};
 }

@@ -12,7 +12,8 @@
 
 namespace infocus::cli {
 
-/// Parses "CxR" (e.g. "16x9", 1–999 each) into columns and rows; nullopt when malformed.
+/// Parses "CxR" (e.g. "16x9", 1 to kMaxGridSide each) into columns and rows; nullopt when
+/// malformed or out of range.
 std::optional<std::pair<int, int>> parseGrid(std::string_view text);
 
 /// Parses "x,y,w,h" (non-negative integers) into a rectangle; nullopt when malformed.

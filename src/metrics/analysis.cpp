@@ -10,6 +10,11 @@
 
 namespace infocus {
 
+std::string gridLimitText() {
+    const std::string side = std::to_string(kMaxGridSide);
+    return "use 1x1 to " + side + "x" + side + ", e.g. 16x9";
+}
+
 struct Analyzer::Impl {
     AnalysisOptions options;
     SharpnessParams params;
@@ -29,11 +34,11 @@ Result<std::unique_ptr<Analyzer>> Analyzer::create(const AnalysisOptions& option
         if (!op) return op.error();
         impl->params.op = *op;
     }
-    if (options.rois.empty() &&
-        (options.cols < 1 || options.rows < 1 || options.cols > 256 || options.rows > 256))
+    if (options.rois.empty() && (options.cols < 1 || options.rows < 1 ||
+                                 options.cols > kMaxGridSide || options.rows > kMaxGridSide))
         return makeError(ErrorKind::Usage, "grid " + std::to_string(options.cols) + "x" +
-                                               std::to_string(options.rows) +
-                                               " is not possible; use 1x1 to 256x256, e.g. 16x9");
+                                               std::to_string(options.rows) + " is not possible; " +
+                                               gridLimitText());
     for (const Rect& r : options.rois)
         if (r.w <= 0 || r.h <= 0 || r.x < 0 || r.y < 0)
             return makeError(ErrorKind::Usage,

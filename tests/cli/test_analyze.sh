@@ -103,7 +103,11 @@ expect_usage() {
 	local s=$?
 	[[ $s -eq 2 ]] && grep -qE -- "$pat" <<<"$e" && ok || bad "analyze $* -> $s: $e"
 }
-expect_usage "e.g. --grid 16x9" "$tmp/good" --grid 16by9
+expect_usage "e.g. 16x9" "$tmp/good" --grid 16by9
+# A grid past the limit names the limit, however far past it (a 2000x2000 grid once only heard
+# "give columns x rows").
+expect_usage "use 1x1 to 256x256" "$tmp/good" --grid 257x1
+expect_usage "use 1x1 to 256x256" "$tmp/good" --grid 2000x2000
 expect_usage "lapv" "$tmp/good" --metric sharpest
 expect_usage "jsonl, csv or table" "$tmp/good" --format xml
 expect_usage "x,y,w,h" "$tmp/good" --roi 1,2,3
