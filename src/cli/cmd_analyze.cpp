@@ -33,6 +33,7 @@ struct AnalyzeArgs {
     bool noBlur = false;
     bool centreWeighted = false;
     std::string blurSearch = "auto";
+    bool blurSearchGiven = false;  // --blur-search on the command line (not its default)
 };
 
 // What --blur-search asks of AnalysisOptions: the regions searched afresh a frame (0: all) and
@@ -167,6 +168,11 @@ int runAnalyze(const AnalyzeArgs& args) {
         options.rois.push_back(*roi);
     }
     options.metric = args.metric;
+    // Both asked for: one of them is a mistake, and which is not ours to guess.
+    if (args.noBlur && args.blurSearchGiven)
+        return usageError(cmd,
+                          "--blur-search chooses how blur is searched, and --no-blur "
+                          "measures none; drop one of them");
     options.measureBlur = !args.noBlur;
     options.centreWeighted = args.centreWeighted;
     const auto search = blurSearch(args.blurSearch, args.source);
@@ -266,16 +272,20 @@ Command addAnalyzeCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("-o,--output", args->output, "Write to FILE instead of stdout");
     sub->add_flag("--no-blur", args->noBlur, "Sharpness only: skip the blur-width measurement");
-    sub->add_option("--blur-search", args->blurSearch,
-                    "Regions whose edges are searched afresh each frame: all, or N to measure "
-                    "the edges found before again and search N regions a frame (video rate); "
-                    "auto: for v4l2 and libcamera cameras 16 a frame within 1.5 ms, all "
-                    "otherwise")
-        ->capture_default_str();
+    CLI::Option* blurSearch =
+        sub->add_option("--blur-search", args->blurSearch,
+                        "Regions whose edges are searched afresh each frame: all, or N to measure "
+                        "the edges found before again and search N regions a frame (video rate); "
+                        "auto: for v4l2 and libcamera cameras 16 a frame within 1.5 ms, all "
+                        "otherwise")
+            ->capture_default_str();
     sub->add_flag(
         "--centre-weighted", args->centreWeighted,
         "frame_sharpness weights regions near the centre more (Gaussian, σ = diagonal/4)");
-    return {sub, [args] { return runAnalyze(*args); }};
+    return {sub, [args, blurSearch] {
+                args->blurSearchGiven = blurSearch->count() > 0;
+                return runAnalyze(*args);
+            }};
 }
 
 }  // namespace infocus::cli
