@@ -43,7 +43,7 @@ struct FrameAnalysis {
     std::vector<RegionResult> regions;
 };
 
-/// Most columns or rows a grid may have (a finer grid's regions hold too few edges to measure).
+/// Most columns or rows a grid may have (256 columns of a 1080p frame are 7.5 px wide each).
 inline constexpr int kMaxGridSide = 256;
 /// What a grid may be, for messages: "use 1x1 to 256x256, e.g. 16x9".
 std::string gridLimitText();
