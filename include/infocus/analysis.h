@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "infocus/blur.h"
 #include "infocus/error.h"
 #include "infocus/frame.h"
 #include "infocus/image.h"
@@ -62,6 +63,8 @@ struct AnalysisOptions {
     int blurSearchesPerFrame = 0;
     /// With blurSearchesPerFrame > 0: seconds of a frame the searches may take (0: no limit).
     double blurSearchBudgetS = 0.0;
+    /// How the frames' grey levels encode light; blur is measured in linear light.
+    TransferFunction transfer = TransferFunction::Linear;
 };
 
 /// Analyses frames one after another, reusing its buffers and JPEG decoder. Not thread-safe

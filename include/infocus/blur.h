@@ -14,6 +14,14 @@
 
 namespace infocus {
 
+/// How a frame's grey levels encode light. Blur spreads light, so an edge's profile is measured in
+/// linear light: the grey levels of an encoded frame are decoded first (docs/blur.md, Accuracy).
+enum class TransferFunction {
+    Linear,  ///< grey level proportional to light (raw sensor data, the synthetic generator)
+    Srgb,    ///< IEC 61966-2-1 (JPEG files, most webcams and phone images)
+    Rec709,  ///< ITU-R BT.709 camera curve (HD video)
+};
+
 /// Tuning knobs of measureBlur; the defaults suit 8-bit video-rate use. A value outside a knob's
 /// range is taken as the nearest one inside it, and one that is not a number as the default.
 struct BlurOptions {
@@ -33,6 +41,10 @@ struct BlurOptions {
     /// (0..1024), removed in quadrature like the pixel's area; 0 keeps the optics' share in the
     /// result.
     double opticsFloorSigmaPx = 0.0;
+    /// How the grey levels encode light. Linear measures them as they are; otherwise each ESF is
+    /// decoded to linear light on the same 0–255 scale, where minContrast then applies (the
+    /// clip levels stay those of the encoded frame).
+    TransferFunction transfer = TransferFunction::Linear;
     /// Use the AVX2 pixel kernels when the CPU has them (same results); false runs the generic
     /// reference code.
     bool simd = true;

@@ -34,6 +34,7 @@ struct AnalyzeArgs {
     bool centreWeighted = false;
     std::string blurSearch = "auto";
     bool blurSearchGiven = false;  // --blur-search on the command line (not its default)
+    std::string transfer = "linear";
 };
 
 // What --blur-search asks of AnalysisOptions: the regions searched afresh a frame (0: all) and
@@ -179,6 +180,11 @@ int runAnalyze(const AnalyzeArgs& args) {
     if (!search)
         return usageError(cmd, "--blur-search " + args.blurSearch +
                                    ": use all, auto or a number of regions 1-65536, e.g. 16");
+    const auto transfer = parseTransfer(args.transfer);
+    if (!transfer)
+        return usageError(cmd, "--transfer " + args.transfer + ": use " + kTransferWords +
+                                   " (JPEG files and most webcams: srgb)");
+    options.transfer = *transfer;
     options.blurSearchesPerFrame = search->perFrame;
     options.blurSearchBudgetS = search->budgetS;
     if (args.format != "jsonl" && args.format != "csv" && args.format != "table")
@@ -279,6 +285,10 @@ Command addAnalyzeCommand(CLI::App& app) {
                         "auto: for v4l2 and libcamera cameras 16 a frame within 1.5 ms, all "
                         "otherwise")
             ->capture_default_str();
+    sub->add_option("--transfer", args->transfer,
+                    "How grey levels encode light, for the blur width (measured in linear "
+                    "light): linear, srgb (JPEG files, most webcams) or rec709 (HD video)")
+        ->capture_default_str();
     sub->add_flag(
         "--centre-weighted", args->centreWeighted,
         "frame_sharpness weights regions near the centre more (Gaussian, σ = diagonal/4)");

@@ -31,6 +31,7 @@ struct DepthArgs {
     double minConfidence = 0.1;
     std::string grid = "16x9";
     uint64_t frames = 1;
+    std::string transfer = "linear";
     bool json = false;
 };
 
@@ -288,6 +289,11 @@ int runDepth(const DepthArgs& args) {
                               "--grid " + args.grid + ": give columns x rows; " + gridLimitText());
         options.cols = grid->first;
         options.rows = grid->second;
+        const auto transfer = parseTransfer(args.transfer);
+        if (!transfer)
+            return usageError(kName, "--transfer " + args.transfer + ": use " + kTransferWords +
+                                         " (JPEG files and most webcams: srgb)");
+        options.transfer = *transfer;
         if (const Status st = analyzeSource(args.input, options, args.frames, sink); !st)
             return reportError(kName, st.error());
     }
@@ -319,6 +325,9 @@ Command addDepthCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--frames", args->frames, "Frames to analyse (SOURCE input; 0: all)")
         ->check(frameCount())
+        ->capture_default_str();
+    sub->add_option("--transfer", args->transfer,
+                    "How grey levels encode light (SOURCE input): linear, srgb or rec709")
         ->capture_default_str();
     sub->add_flag("--json", args->json, "One JSON object per frame (JSONL)");
     sub->footer(

@@ -39,4 +39,11 @@ std::optional<Rect> parseRoi(std::string_view text) {
     return Rect{(*v)[0], (*v)[1], (*v)[2], (*v)[3]};
 }
 
+std::optional<TransferFunction> parseTransfer(std::string_view text) {
+    if (text == "linear") return TransferFunction::Linear;
+    if (text == "srgb") return TransferFunction::Srgb;
+    if (text == "rec709") return TransferFunction::Rec709;
+    return std::nullopt;
+}
+
 }  // namespace infocus::cli

@@ -7,6 +7,7 @@
 #include <string_view>
 #include <utility>
 
+#include "infocus/blur.h"
 #include "infocus/image.h"
 #include "src/core/read_number.h"
 
@@ -18,5 +19,10 @@ std::optional<std::pair<int, int>> parseGrid(std::string_view text);
 
 /// Parses "x,y,w,h" (non-negative integers) into a rectangle; nullopt when malformed.
 std::optional<Rect> parseRoi(std::string_view text);
+
+/// Parses a transfer function, "linear", "srgb" or "rec709"; nullopt otherwise.
+std::optional<TransferFunction> parseTransfer(std::string_view text);
+/// The words parseTransfer takes, for messages: "linear, srgb or rec709".
+inline constexpr const char* kTransferWords = "linear, srgb or rec709";
 
 }  // namespace infocus::cli

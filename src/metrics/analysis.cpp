@@ -117,13 +117,15 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
         const size_t n = rects.size();
         const unsigned threads = std::max(
             1u, std::min<unsigned>(std::thread::hardware_concurrency(), static_cast<unsigned>(n)));
+        BlurOptions blurOptions;
+        blurOptions.transfer = o.transfer;
         if (o.blurSearchesPerFrame > 0 && impl_->trackers.size() != threads) {
             // The searches a frame are shared out with the regions.
             impl_->trackers.clear();
             for (unsigned t = 0; t < threads; ++t) {
                 const size_t regions = n * (t + 1) / threads - n * t / threads;
                 const auto searches = static_cast<size_t>(o.blurSearchesPerFrame) * regions / n;
-                impl_->trackers.emplace_back(BlurOptions{},
+                impl_->trackers.emplace_back(blurOptions,
                                              static_cast<int>(std::max<size_t>(1, searches)),
                                              o.blurSearchBudgetS);
             }
@@ -133,7 +135,7 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
             const auto part = std::span(rects).subspan(begin, end - begin);
             const std::vector<BlurEstimate> blur = o.blurSearchesPerFrame > 0
                                                        ? impl_->trackers[share].measure(img, part)
-                                                       : measureBlurRegions(img, part);
+                                                       : measureBlurRegions(img, part, blurOptions);
             for (size_t i = begin; i < end; ++i) {
                 const BlurEstimate& b = blur[i - begin];
                 RegionResult& r = a.regions[i];

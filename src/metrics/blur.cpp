@@ -184,6 +184,62 @@ constexpr double kPixelVariance = 1.0 / 12.0;
 constexpr double kGaussianRisePerSigma = 2.5631;
 // Plateau levels (grey) at which an edge counts as clipped by the sensor or the encoder.
 constexpr double kClipLow = 3.0, kClipHigh = 252.0;
+// Light (0..1) of the encoded value @p v (0..1) under @p tf.
+double decodeLight(TransferFunction tf, double v) {
+    switch (tf) {
+        case TransferFunction::Srgb:  // IEC 61966-2-1
+            return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+        case TransferFunction::Rec709:  // ITU-R BT.709, the inverse of its camera curve
+            return v < 0.081 ? v / 4.5 : std::pow((v + 0.099) / 1.099, 1.0 / 0.45);
+        case TransferFunction::Linear:
+            break;
+    }
+    return v;
+}
+
+// The encoded value (0..1) of light @p l (0..1) under @p tf: the inverse of decodeLight.
+double encodeLight(TransferFunction tf, double l) {
+    l = std::clamp(l, 0.0, 1.0);
+    switch (tf) {
+        case TransferFunction::Srgb:
+            return l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
+        case TransferFunction::Rec709:
+            return l < 0.018 ? 4.5 * l : 1.099 * std::pow(l, 0.45) - 0.099;
+        case TransferFunction::Linear:
+            break;
+    }
+    return l;
+}
+
+constexpr int kDecodeSteps = 16;  // table entries per grey level
+
+// Grey levels decoded to linear light (BlurOptions::transfer). Blur spreads light, so the ESF's
+// profile (its line spread's moments, rise and overshoot) is taken in light: each bin's mean
+// grey level goes through the inverse transfer function, tabulated every 1/16 grey level and
+// interpolated (a bin's pixels lie at one place of the profile and differ by noise, over which
+// the curve is nearly straight). What judges an edge stays in the frame's grey levels, where
+// its thresholds were set: the plateaus' levels and contrast (encoded again), their pixels'
+// spread and the clip levels; so do the candidates and the one-sided test.
+struct Decoding {
+    TransferFunction tf = TransferFunction::Linear;
+    const std::vector<double>* table = nullptr;  // 255 × light at grey i/16; null: linear
+    // The grey level of light @p level (both 0..255).
+    double encode(double level) const { return 255.0 * encodeLight(tf, level / 255.0); }
+};
+
+Decoding decodingFor(TransferFunction tf) {
+    if (tf == TransferFunction::Linear) return {};
+    const auto make = [](TransferFunction t) {
+        std::vector<double> table(255 * kDecodeSteps + 1);
+        for (size_t i = 0; i < table.size(); ++i)
+            table[i] = 255.0 * decodeLight(t, i / (255.0 * kDecodeSteps));
+        return table;
+    };
+    static const std::vector<double> srgb = make(TransferFunction::Srgb);
+    static const std::vector<double> rec709 = make(TransferFunction::Rec709);
+    return {tf, tf == TransferFunction::Srgb ? &srgb : &rec709};
+}
+
 // Segment lengths tried per seed (halved from the longest down to 6 px: 48 → 6 is 4).
 constexpr int kMaxLengths = 8;
 // The straightness share e^(−bend²) of the quality (relativeBend) above which a segment
@@ -629,6 +685,9 @@ struct EsfFit {
     double varCore = 0;        // line-spread variance in the narrow window: the width reported
     double overshoot = 0;      // largest excursion past a plateau, fraction of the contrast
     double plateauPixels = 0;  // pixels beside the window that set the plateau levels
+    // lo and contrast of the profile itself: in light where the frame is decoded (Decoding),
+    // else lo and contrast.
+    double profileLo = 0, profileContrast = 0;
 };
 
 // Centroid and variance of the line spread between bins @p il and @p ir, the ESF taken as @p lo
@@ -735,7 +794,7 @@ size_t firstAtOrAfter(const BinList& bins, double x) {
 // caller. The window starts over the whole patch (@p halfWidth about its middle), or, with
 // @p startRadius > 0, over ±startRadius about the patch's line (u = 0).
 EsfFit fitEsf(const BinList& bins, PairTerms& terms, double halfWidth, double minContrast,
-              double startRadius = 0.0) {
+              const Decoding& dec, double startRadius = 0.0) {
     EsfFit f;
     const size_t size = bins.size;
     if (size < kMinEsfBins) return f;
@@ -775,7 +834,9 @@ EsfFit fitEsf(const BinList& bins, PairTerms& terms, double halfWidth, double mi
         if (wr > last) ir = size - 1;
         const double lo = nl > 0 ? sl / nl : value[il];
         const double hi = nr > 0 ? sr / nr : value[ir];
-        const double contrast = hi - lo;
+        // The edge is judged in the frame's grey levels (Decoding), its profile taken in light.
+        const double judgedLo = dec.table ? dec.encode(lo) : lo;
+        const double contrast = dec.table ? dec.encode(hi) - judgedLo : hi - lo;
         if (contrast < minContrast || ir <= il + 2) return f;
         const Moments m = lineSpreadMoments(terms.get(), il, ir, lo, hi, bins);
         mu = m.mean;
@@ -783,7 +844,9 @@ EsfFit fitEsf(const BinList& bins, PairTerms& terms, double halfWidth, double mi
         f.binVar = m.binVar;
         f.varLsf = var - f.binVar;
         f.contrast = contrast;
-        f.lo = lo;
+        f.lo = judgedLo;
+        f.profileLo = lo;
+        f.profileContrast = hi - lo;
         f.mean = mu;
         f.noise = npv > 0 ? std::sqrt(pv / npv) : 0.0;
         f.plateauPixels = npv;
@@ -811,7 +874,8 @@ EsfFit fitEsf(const BinList& bins, PairTerms& terms, double halfWidth, double mi
         const size_t ir = std::min(firstAtOrAfter(bins, wr), size - 1);
         f.varCore = f.varLsf;
         if (ir > il + 2 && f.contrast >= kCleanCnr * std::max(f.noise, 0.5)) {
-            const Moments m = lineSpreadMoments(terms.get(), il, ir, f.lo, f.lo + f.contrast, bins);
+            const Moments m = lineSpreadMoments(terms.get(), il, ir, f.profileLo,
+                                                f.profileLo + f.profileContrast, bins);
             f.varCore = m.var - m.binVar;
         }
     }
@@ -820,7 +884,7 @@ EsfFit fitEsf(const BinList& bins, PairTerms& terms, double halfWidth, double mi
     // The last bin left of the centroid (or the first).
     const size_t beforeMu = firstAtOrAfter(bins, mu);
     const size_t c = beforeMu > 0 ? beforeMu - 1 : 0;
-    auto level = [&](size_t i) { return (value[i] - f.lo) / f.contrast; };
+    auto level = [&](size_t i) { return (value[i] - f.profileLo) / f.profileContrast; };
     for (size_t i = c; i > 0; --i) {
         const double a = level(i - 1), b = level(i);
         if (a <= 0.1 && b > 0.1) {
@@ -849,17 +913,18 @@ EsfFit fitEsf(const BinList& bins, PairTerms& terms, double halfWidth, double mi
         for (; j < size && pos[j] < pos[i] + 1.0; ++j)
             sum += value[j] * count[j], n += count[j];
         const double v = sum / n;
-        overshoot = std::max({overshoot, v - (f.lo + f.contrast), f.lo - v});
+        overshoot = std::max({overshoot, v - (f.profileLo + f.profileContrast), f.profileLo - v});
         sum -= value[i] * count[i], n -= count[i];
     }
-    f.overshoot = overshoot / f.contrast;
+    f.overshoot = overshoot / f.profileContrast;
     f.ok = true;
     return f;
 }
 
-// Bins the pixels of @p p by their distance across the edge (the slanted-edge ESF) into @p bins.
+// Bins the pixels of @p p by their distance across the edge (the slanted-edge ESF) into @p bins,
+// their mean grey levels decoded to light by @p dec.
 void sampleEsf(const Luma8& img, const Bounds& b, const Kernels& k, const Patch& p, double binPx,
-               BinList& bins) {
+               const Decoding& dec, BinList& bins) {
     const int n = static_cast<int>(std::ceil(2.0 * p.hw / binPx));
     const auto bp = static_cast<float>(binPx);
     const detail::EsfPatch e{
@@ -872,6 +937,13 @@ void sampleEsf(const Luma8& img, const Bounds& b, const Kernels& k, const Patch&
     // Written in place, one division per bin: this runs for every bin of every ESF, a hundred
     // thousand times a frame.
     bins.size = static_cast<size_t>(k.esfBins(acc.data(), 0, n, binPx, p.hw, bins.reserve(n)));
+    if (!dec.table) return;
+    const std::vector<double>& t = *dec.table;
+    for (size_t i = 0; i < bins.size; ++i) {
+        const double x = bins.value[i] * kDecodeSteps;
+        const auto j = std::min(static_cast<size_t>(x), t.size() - 2);
+        bins.value[i] = t[j] + (x - static_cast<double>(j)) * (t[j + 1] - t[j]);
+    }
 }
 
 // Half-width (px) of the slab across the edge in which the geometry is first fitted.
@@ -957,10 +1029,10 @@ std::optional<LineFit> refitOnto(const Luma8& img, const Bounds& b, const Kernel
 // @p narrowStart is above 0, the fit of the same bins from a window of ±narrowStart about the
 // line (measureSegment says why), kept only where it gives one.
 EsfFit fitWithSecondStart(const BinList& bins, PairTerms& terms, double halfWidth,
-                          double minContrast, double narrowStart) {
-    const EsfFit f = fitEsf(bins, terms, halfWidth, minContrast);
+                          double minContrast, double narrowStart, const Decoding& dec) {
+    const EsfFit f = fitEsf(bins, terms, halfWidth, minContrast, dec);
     if (usable(f) || narrowStart <= 0.0) return f;
-    const EsfFit g = fitEsf(bins, terms, halfWidth, minContrast, narrowStart);
+    const EsfFit g = fitEsf(bins, terms, halfWidth, minContrast, dec, narrowStart);
     return usable(g) ? g : f;
 }
 
@@ -989,6 +1061,7 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
     const bool cut =
         std::abs(line.a) + std::abs(line.slope) * patch.hl + 3.0 * sd0 > kProbeHalfWidthPx;
     bool refit = cut;
+    const Decoding dec = decodingFor(o.transfer);
     thread_local BinList bins;
     for (int pass = 0; pass < 6; ++pass) {
         if (refit) {
@@ -996,7 +1069,7 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
             if (!fitted) return std::nullopt;
             line = *fitted;
         }
-        sampleEsf(img, b, k, patch, o.binPx, bins);
+        sampleEsf(img, b, k, patch, o.binPx, dec, bins);
         // The bin-pair terms at most once per ESF: every fit of these bins that gets past its
         // first window reads them.
         thread_local PairTerms terms;
@@ -1010,7 +1083,7 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
         // clutter and reads the edge narrow). No pixel is read again. On the bench frame more
         // seeds give an edge, and 142 regions of 144 measure instead of 132 (docs/blur.md).
         const double narrowStart = pass == 0 && !cut ? 4.0 * largestSigma(sd0) + 1.0 : 0.0;
-        const EsfFit f = fitWithSecondStart(bins, terms, patch.hw, o.minContrast, narrowStart);
+        const EsfFit f = fitWithSecondStart(bins, terms, patch.hw, o.minContrast, narrowStart, dec);
         if (usable(f)) {
             track = {patch, line.straight, narrowStart, threshold, slices};
             return makeMeasurement(patch, f, line.straight, o);
@@ -1104,6 +1177,8 @@ BlurOptions sanitized(const BlurOptions& given) {
     o.minGradient = in(given.minGradient, defaults.minGradient, 0.0, 1020.0);
     o.relativeGradient = in(given.relativeGradient, defaults.relativeGradient, 0.0, 1.0);
     o.opticsFloorSigmaPx = in(given.opticsFloorSigmaPx, 0.0, 0.0, kMaxHalfWidthPx);
+    if (given.transfer != TransferFunction::Srgb && given.transfer != TransferFunction::Rec709)
+        o.transfer = TransferFunction::Linear;
     return o;
 }
 
@@ -1283,6 +1358,7 @@ std::optional<EdgeMeasurement> remeasureEdge(const Luma8& luma, const Bounds& sb
     thread_local PairTerms terms;
     Patch& patch = track.patch;
     bool refit = false, refitted = false;
+    const Decoding dec = decodingFor(o.transfer);
     for (int pass = 0; pass < 6; ++pass) {
         if (refit) {
             const auto line = refitOnto(luma, sb, k, patch, track.threshold, track.slices);
@@ -1290,10 +1366,10 @@ std::optional<EdgeMeasurement> remeasureEdge(const Luma8& luma, const Bounds& sb
             track.straight = line->straight;
             refitted = true;
         }
-        sampleEsf(luma, sb, k, patch, o.binPx, bins);
+        sampleEsf(luma, sb, k, patch, o.binPx, dec, bins);
         terms.defer(bins, k);
         const EsfFit f =
-            fitWithSecondStart(bins, terms, patch.hw, o.minContrast, track.narrowStart);
+            fitWithSecondStart(bins, terms, patch.hw, o.minContrast, track.narrowStart, dec);
         if (usable(f)) return makeMeasurement(patch, f, track.straight, o);
         if (!rescue) return std::nullopt;
         refit = true;

@@ -114,6 +114,7 @@ expect_usage "x,y,w,h" "$tmp/good" --roi 1,2,3
 expect_usage "all, auto or a number of regions" "$tmp/good" --blur-search some
 expect_usage "all, auto or a number of regions" "$tmp/good" --blur-search 0
 expect_usage "drop one of them" "$tmp/good" --no-blur --blur-search 4
+expect_usage "use linear, srgb or rec709" "$tmp/good" --transfer gamma
 # A negative frame count is refused, not wrapped to 2^64 − 1 (it ran without end on a camera).
 expect_usage "not a frame count" "$tmp/good" --frames -1
 # A region whose far edge passes INT_MAX: outside the frame, not wrapped around (it crashed).

@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 // End to end: `infocus analyze IMAGE --grid 1x1` on PNG files of edges with a known disc or
-// Gaussian blur (the synthetic generator, 1 % noise) reports the blur within the targets.
+// Gaussian blur (the synthetic generator, 1 % noise) reports the blur within the targets, and
+// with --transfer srgb so does an sRGB-encoded one.
 #define CATCH_CONFIG_RUNNER
 #include <catch2/catch.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -19,27 +22,40 @@ namespace {
 std::string gInfocus;  // path of the infocus executable (argv[1])
 
 // Writes an edge of @p psf at @p angleDeg with 1 % noise of the contrast to a PNG; returns its
-// path.
+// path. With @p srgb the edge runs from 2 % to 90 % of full-scale light, encoded by the sRGB curve
+// as a camera's JPEG is (noise 0.1 % of full scale, in light).
 std::string writeEdge(const infocus::synth::Psf& psf, double angleDeg, uint64_t seed,
-                      const std::string& name) {
+                      const std::string& name, bool srgb = false) {
     const int size = 256;
-    const infocus::synth::Edge edge{angleDeg, size / 2.0, size / 2.0, 0.3, 50.0f, 200.0f};
-    const infocus::synth::Imaging imaging{psf, 8, 1.5, seed};
-    const auto img =
-        infocus::synth::toLuma8(infocus::synth::renderEdge(size, size, edge, imaging).pixels);
+    const infocus::synth::Edge edge =
+        srgb ? infocus::synth::Edge{angleDeg, size / 2.0, size / 2.0, 0.3, 0.0f, 1.0f}
+             : infocus::synth::Edge{angleDeg, size / 2.0, size / 2.0, 0.3, 50.0f, 200.0f};
+    const infocus::synth::Imaging imaging{psf, 8, srgb ? 0.001 : 1.5, seed};
+    const auto rendered = infocus::synth::renderEdge(size, size, edge, imaging).pixels;
+    const auto img = infocus::synth::toLuma8(rendered);
     cv::Mat m(img.height(), img.width(), CV_8U);
     for (int y = 0; y < m.rows; ++y)
-        for (int x = 0; x < m.cols; ++x)
-            m.at<uint8_t>(y, x) = img.view().at(x, y);
+        for (int x = 0; x < m.cols; ++x) {
+            if (!srgb) {
+                m.at<uint8_t>(y, x) = img.view().at(x, y);
+                continue;
+            }
+            const double light = std::clamp(0.02 + 0.88 * rendered.at(x, y), 0.0, 1.0);
+            const double v =
+                light <= 0.0031308 ? 12.92 * light : 1.055 * std::pow(light, 1 / 2.4) - 0.055;
+            m.at<uint8_t>(y, x) = static_cast<uint8_t>(std::lround(255.0 * v));
+        }
     static const infocus::test::ScratchDir scratch("infocus-test-blur-");  // removed at exit
     const std::string path = scratch.file(name + ".png");
     REQUIRE(cv::imwrite(path, m));
     return path;
 }
 
-// Runs `infocus analyze PATH --grid 1x1 --format jsonl` and returns the one region's object.
-nlohmann::json analyzeOneRegion(const std::string& path) {
-    const std::string cmd = "'" + gInfocus + "' analyze '" + path + "' --grid 1x1 --format jsonl";
+// Runs `infocus analyze PATH --grid 1x1 --format jsonl` (and @p more options) and returns the
+// one region's object.
+nlohmann::json analyzeOneRegion(const std::string& path, const std::string& more = "") {
+    const std::string cmd =
+        "'" + gInfocus + "' analyze '" + path + "' --grid 1x1 --format jsonl" + more;
     std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
     REQUIRE(pipe);
     std::string out;
@@ -76,6 +92,25 @@ TEST_CASE("analyze --grid 1x1 reports a known Gaussian blur within 3 %", "[cli][
             INFO("sigma = " << s << " angle = " << angle << ": " << region.dump());
             REQUIRE(region["blur_sigma_px"].is_number());
             CHECK(region["blur_sigma_px"].get<double>() == Approx(s).epsilon(0.03));  // target
+        }
+}
+
+TEST_CASE("analyze --transfer srgb reads an sRGB-encoded edge's blur in light", "[cli][blur]") {
+    // A camera blurs light and then encodes it: read in grey levels, a black-to-white edge is a
+    // tenth wider than its blur; decoded, it meets the targets.
+    uint64_t seed = 170;
+    for (double s : {1.0, 3.0})
+        for (double angle : {6.0, 33.0}) {
+            const std::string path =
+                writeEdge(infocus::synth::Psf::gaussian(s), angle, seed++, "srgb", true);
+            const auto decoded = analyzeOneRegion(path, " --transfer srgb");
+            const auto raw = analyzeOneRegion(path);
+            INFO("sigma = " << s << " angle = " << angle << ": " << decoded.dump() << " / "
+                            << raw.dump());
+            REQUIRE(decoded["blur_sigma_px"].is_number());
+            REQUIRE(raw["blur_sigma_px"].is_number());
+            CHECK(decoded["blur_sigma_px"].get<double>() == Approx(s).epsilon(0.03));  // target
+            CHECK(raw["blur_sigma_px"].get<double>() > 1.04 * s);
         }
 }
 
