@@ -171,6 +171,62 @@ TEST_CASE("an edge encoded by a camera's transfer function reads its blur once d
             }
 }
 
+TEST_CASE(
+    "edges of falling contrast against noise: readings hold to a CNR of 25, then the "
+    "confidence falls with them",
+    "[blur]") {
+    // Noise of 2 grey levels on edges of 50, 30 and 15 grey levels (contrast-to-noise 25, 15 and
+    // 7.5): discs of 4 and 12 px and Gaussians of σ 1 and 3 px at five angles and two offsets.
+    // Measured here: RMS errors of 0.7–2.0 % at 25, and mean confidences of 0.81, 0.57 and 0.17
+    // (over more seeds, RMS errors of 1–2 %, 6–22 % and 20–160 %). The readings must hold the
+    // targets in RMS at 25, and the confidence must fall with the contrast, to the lowest band
+    // (< 0.25) at 7.5.
+    constexpr int n = 256;
+    uint64_t seed = 1300;
+    std::vector<double> meanConfidence;
+    for (const double contrast : {50.0, 30.0, 15.0}) {
+        double confidence = 0.0;
+        int readings = 0;
+        for (const synth::Psf psf : {synth::Psf::gaussian(1.0), synth::Psf::gaussian(3.0),
+                                     synth::Psf::disc(4.0), synth::Psf::disc(12.0)}) {
+            const bool disc = psf.shape == synth::PsfShape::Disc;
+            double squares = 0.0;
+            int k = 0;
+            for (const double angle : {5.0, 13.0, 21.0, 29.0, 37.0})
+                for (const double offset : {0.15, 0.65}) {
+                    const synth::Edge e{angle,
+                                        n / 2.0,
+                                        n / 2.0,
+                                        offset,
+                                        static_cast<float>(125.0 - contrast / 2),
+                                        static_cast<float>(125.0 + contrast / 2)};
+                    const auto img =
+                        synth::toLuma8(synth::renderEdge(n, n, e, {psf, 8, 2.0, seed++}).pixels);
+                    const BlurEstimate b = measureWhole(img);
+                    if (!b.sigmaPx) continue;
+                    const double m = disc ? *b.discDiameterPx : *b.sigmaPx;
+                    squares += (m / psf.sizePx - 1.0) * (m / psf.sizePx - 1.0);
+                    confidence += b.confidence;
+                    ++k, ++readings;
+                }
+            INFO("contrast " << contrast << (disc ? ", disc d = " : ", Gaussian sigma = ")
+                             << psf.sizePx << ": " << k << " readings, RMS error "
+                             << std::sqrt(squares / std::max(k, 1)));
+            if (contrast == 50.0) {
+                REQUIRE(k == 10);
+                CHECK(std::sqrt(squares / k) <= (disc ? 0.05 : 0.03));
+            }
+        }
+        meanConfidence.push_back(confidence / std::max(readings, 1));
+    }
+    INFO("mean confidence at CNR 25, 15, 7.5: " << meanConfidence[0] << ", " << meanConfidence[1]
+                                                << ", " << meanConfidence[2]);
+    CHECK(meanConfidence[0] > 0.7);
+    CHECK(meanConfidence[1] < meanConfidence[0]);
+    CHECK(meanConfidence[2] < meanConfidence[1]);
+    CHECK(meanConfidence[2] < kLowBlurConfidence);
+}
+
 TEST_CASE("an edge lit unevenly along its length reads its blur", "[blur]") {
     // Vignetting, a shadow or a lamp to one side: the edge's contrast grows threefold from one
     // end of the frame to the other (gain 0.5 to 1.5 of 150 grey levels). Every slice along the
