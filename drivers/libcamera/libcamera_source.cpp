@@ -571,6 +571,9 @@ Result<std::vector<DeviceInfo>> listLibcameraDevices() {
             info.controls.push_back(*c);
         if (auto c = control(&lc::controls::AnalogueGain, "analogue_gain", "x"))
             info.controls.push_back(*c);
+        // The ISP's sharpening (0: none) makes edges read narrower than their blur.
+        if (auto c = control(&lc::controls::Sharpness, "sharpness", "x"))
+            info.controls.push_back(*c);
         out.push_back(std::move(info));
     }
     return out;

@@ -309,6 +309,8 @@ Result<DeviceInfo> describeDevice(const std::string& path) {
         {V4L2_CID_EXPOSURE, "exposure", "v4l2"},
         {V4L2_CID_GAIN, "gain", "v4l2"},
         {V4L2_CID_ANALOGUE_GAIN, "analogue_gain", "v4l2"},
+        // In-camera sharpening makes edges read narrower than their blur (docs/blur.md).
+        {V4L2_CID_SHARPNESS, "sharpness", "v4l2"},
     };
     for (auto& [cid, name, unit] : others)
         if (auto c = control(cid, name, unit)) info.controls.push_back(*c);

@@ -30,7 +30,8 @@ struct DeviceFormat {
     std::vector<DeviceSize> sizes;
 };
 
-/// A numeric control that matters for focusing (focus, exposure, gain), by its native unit.
+/// A numeric control that matters for focusing (focus, exposure, gain, sharpening), by its native
+/// unit.
 struct DeviceControl {
     std::string name;  ///< "focus_absolute", "lens_position", "exposure_time", ...
     std::string unit;  ///< "v4l2" (driver steps), "dioptre", "100us", "us", ...
@@ -57,7 +58,7 @@ struct DeviceInfo {
     bool focusRelative = false;          ///< has V4L2_CID_FOCUS_RELATIVE (moves without position)
     bool autofocusContinuous = false;  ///< has continuous autofocus (FOCUS_AUTO, AfModeContinuous)
     bool autofocusTrigger = false;     ///< has one-shot autofocus start/stop/status
-    std::vector<DeviceControl> controls;  ///< exposure and gain controls, where present
+    std::vector<DeviceControl> controls;  ///< exposure, gain and sharpness controls, where present
 };
 
 /// Lists every camera of every backend this infocus was built with. An empty list is not an

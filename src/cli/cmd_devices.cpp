@@ -73,8 +73,16 @@ void printText(const std::vector<DeviceInfo>& devices) {
         if (d.autofocusContinuous || d.autofocusTrigger)
             std::printf("    autofocus:%s%s\n", d.autofocusContinuous ? " continuous" : "",
                         d.autofocusTrigger ? " one-shot" : "");
-        for (const auto& c : d.controls)
+        for (const auto& c : d.controls) {
             std::printf("    %s\n", controlText(c).c_str());
+            // Sharpening narrows every edge it is given (a 1 px σ reads a fifth to a third
+            // narrow, docs/blur.md): say so where it is on, or may be (current value unknown).
+            if (c.name == "sharpness" && c.current.value_or(c.defaultValue) > c.min)
+                std::printf(
+                    "      sharpening makes blur widths read narrow: set sharpness to %s "
+                    "while measuring\n",
+                    number(c.min).c_str());
+        }
     }
 }
 
