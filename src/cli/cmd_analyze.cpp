@@ -157,8 +157,7 @@ int runAnalyze(const AnalyzeArgs& args) {
     const std::string cmd = "analyze";
     AnalysisOptions options;
     const auto grid = parseGrid(args.grid);
-    if (!grid)
-        return usageError(cmd, "--grid " + args.grid + ": give columns x rows; " + gridLimitText());
+    if (!grid) return usageError(cmd, gridUsage(args.grid));
     options.cols = grid->first;
     options.rows = grid->second;
     for (const auto& r : args.rois) {
@@ -181,9 +180,7 @@ int runAnalyze(const AnalyzeArgs& args) {
         return usageError(cmd, "--blur-search " + args.blurSearch +
                                    ": use all, auto or a number of regions 1-65536, e.g. 16");
     const auto transfer = parseTransfer(args.transfer);
-    if (!transfer)
-        return usageError(cmd, "--transfer " + args.transfer + ": use " + kTransferWords +
-                                   " (JPEG files and most webcams: srgb)");
+    if (!transfer) return usageError(cmd, transferUsage(args.transfer));
     options.transfer = *transfer;
     options.blurSearchesPerFrame = search->perFrame;
     options.blurSearchBudgetS = search->budgetS;

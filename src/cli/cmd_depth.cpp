@@ -284,15 +284,11 @@ int runDepth(const DepthArgs& args) {
     } else {
         AnalysisOptions options;
         const auto grid = parseGrid(args.grid);
-        if (!grid)
-            return usageError(kName,
-                              "--grid " + args.grid + ": give columns x rows; " + gridLimitText());
+        if (!grid) return usageError(kName, gridUsage(args.grid));
         options.cols = grid->first;
         options.rows = grid->second;
         const auto transfer = parseTransfer(args.transfer);
-        if (!transfer)
-            return usageError(kName, "--transfer " + args.transfer + ": use " + kTransferWords +
-                                         " (JPEG files and most webcams: srgb)");
+        if (!transfer) return usageError(kName, transferUsage(args.transfer));
         options.transfer = *transfer;
         if (const Status st = analyzeSource(args.input, options, args.frames, sink); !st)
             return reportError(kName, st.error());

@@ -46,4 +46,13 @@ std::optional<TransferFunction> parseTransfer(std::string_view text) {
     return std::nullopt;
 }
 
+std::string gridUsage(std::string_view text) {
+    return "--grid " + std::string(text) + ": give columns x rows; " + gridLimitText();
+}
+
+std::string transferUsage(std::string_view text) {
+    return "--transfer " + std::string(text) +
+           ": use linear, srgb or rec709 (JPEG files and most webcams: srgb)";
+}
+
 }  // namespace infocus::cli

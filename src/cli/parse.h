@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <string_view>
 #include <utility>
 
@@ -22,7 +23,10 @@ std::optional<Rect> parseRoi(std::string_view text);
 
 /// Parses a transfer function, "linear", "srgb" or "rec709"; nullopt otherwise.
 std::optional<TransferFunction> parseTransfer(std::string_view text);
-/// The words parseTransfer takes, for messages: "linear, srgb or rec709".
-inline constexpr const char* kTransferWords = "linear, srgb or rec709";
+
+/// What to say of a --grid value @p text that parseGrid refuses.
+std::string gridUsage(std::string_view text);
+/// What to say of a --transfer value @p text that parseTransfer refuses.
+std::string transferUsage(std::string_view text);
 
 }  // namespace infocus::cli
