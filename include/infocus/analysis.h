@@ -25,10 +25,11 @@ struct RegionResult {
     int row = 0;             ///< grid row (0 for ROIs and the whole frame)
     Rect rect;               ///< the region in pixels
     double sharpness = 0.0;  ///< focus measure of the chosen operator (normalised)
-    std::optional<double> edgeWidthPx;  ///< 10–90 % edge rise, pixels
-    std::optional<double> blurSigmaPx;  ///< Gaussian-equivalent σ, pixels
-    std::optional<double> blurWidthPx;  ///< disc-equivalent diameter (the lecture's ΔX_i), px
-    double confidence = 0.0;            ///< 0–1 trust in the blur fields; 0 when they are null
+    std::optional<double> edgeWidthPx;   ///< 10–90 % edge rise, pixels
+    std::optional<double> blurSigmaPx;   ///< Gaussian-equivalent σ, pixels
+    std::optional<double> blurWidthPx;   ///< disc-equivalent diameter (the lecture's ΔX_i), px
+    double confidence = 0.0;             ///< 0–1 trust in the blur fields; 0 when they are null
+    std::optional<double> haloFraction;  ///< BlurEstimate::haloFraction (not in the JSONL)
 };
 
 /// Measurements of one frame.
@@ -42,7 +43,19 @@ struct FrameAnalysis {
     std::optional<double> noiseSigma;  ///< estimated white-noise σ (grey levels) removed from it
     double frameSharpness = 0.0;       ///< whole-frame score from the regions (combineScores)
     std::vector<RegionResult> regions;
+    /// The median of the regions' halo fractions where enough regions have one
+    /// (sharpeningHalo); not in the JSONL.
+    std::optional<double> sharpeningHalo;
 };
+
+/// Median halo fraction across a frame's regions above which its edges count as sharpened
+/// (unsharpened frames, JPEG-compressed or not, stay under it: docs/blur.md, Compressed and
+/// sharpened frames).
+inline constexpr double kSharpenedHaloFraction = 0.012;
+
+/// The median of the regions' halo fractions, where at least 10 regions (or half of the
+/// regions, at least 3, on smaller grids) have one: fewer clean sharp edges scatter too much.
+std::optional<double> sharpeningHalo(const std::vector<RegionResult>& regions);
 
 /// Most columns or rows a grid may have (256 columns of a 1080p frame are 7.5 px wide each).
 inline constexpr int kMaxGridSide = 256;

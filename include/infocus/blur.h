@@ -58,6 +58,10 @@ struct BlurEstimate {
     std::optional<double> discDiameterPx;  ///< uniform-disc model diameter, the lecture's ΔX_i
     double confidence = 0.0;               ///< 0..1, 0 when the fields are empty
     int edgeCount = 0;                     ///< edges used
+    /// Sharpening halos beside the region's clean sharp edges (EdgeMeasurement::haloFraction,
+    /// quality-weighted over the agreeing edges of σ ≤ 2 px and contrast ≥ 20 × the spread
+    /// beside them); empty where there is no such edge. Not corrected for: see docs/blur.md.
+    std::optional<double> haloFraction;
 };
 
 /// Below this confidence a reading says that an edge was found more than how wide its blur is:
@@ -121,6 +125,9 @@ struct EdgeMeasurement {
     double edgeWidthPx = 0.0;     ///< 10–90 % rise with pixel area and binning removed
     double straightnessPx = 0.0;  ///< RMS deviation of the edge from a straight line
     double quality = 0.0;         ///< 0..1 from contrast-to-noise and straightness
+    /// Halos of in-camera sharpening: the lesser of the two sides' excursions past their far
+    /// plateaus near the edge, as a fraction of the contrast (about 0 for a blurred clean edge).
+    double haloFraction = 0.0;
 };
 
 /// Every edge segment measureBlur used in @p roi, in the order found.

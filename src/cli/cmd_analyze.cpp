@@ -199,9 +199,11 @@ int runAnalyze(const AnalyzeArgs& args) {
     const std::string where = file.is_open() ? args.output : "standard output";
     uint64_t written = 0, damaged = 0;
     std::streamoff complete = 0;  // bytes of the frames written whole
+    bool warnedSharpened = false;
     const Status st = analyzeSource(
         args.source, options, args.frames,
         [&](const FrameAnalysis& a) -> Status {
+            warnIfSharpened(cmd, a, warnedSharpened);
             std::ostringstream text;
             if (args.format == "csv")
                 writeCsv(text, a, written == 0);

@@ -260,8 +260,10 @@ int runDepth(const DepthArgs& args) {
     if (std::isnan(args.minConfidence))
         return usageError(kName, "--min-confidence must be a number from 0 to 1, e.g. 0.1");
     uint64_t frames = 0;
+    bool warnedSharpened = false;
     const auto sink = [&](const FrameAnalysis& a) -> Status {
         ++frames;
+        warnIfSharpened(kName, a, warnedSharpened);
         return processFrame(a, args, *values);
     };
     if (args.input == "-" || isJsonlFile(args.input)) {

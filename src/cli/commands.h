@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "infocus/analysis.h"
+
 #include "infocus/error.h"
 
 namespace infocus::cli {
@@ -33,6 +35,11 @@ int reportError(const std::string& command, const Error& error);
 
 /// Prints a usage error for @p command on stderr and returns kExitUsage.
 int usageError(const std::string& command, const std::string& message);
+
+/// Says once on stderr, as @p command, that frame @p a's edges look sharpened
+/// (FrameAnalysis::sharpeningHalo at least kSharpenedHaloFraction), and why it matters;
+/// @p warned remembers that it was said.
+void warnIfSharpened(const std::string& command, const FrameAnalysis& a, bool& warned);
 
 /// Checks a --frames value: a whole number ≥ @p least, read before it is converted to an
 /// unsigned count (where "-1" would wrap to 2^64 − 1 and never stop).

@@ -143,6 +143,7 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
                 r.blurSigmaPx = b.sigmaPx;
                 r.blurWidthPx = b.discDiameterPx;
                 r.confidence = b.confidence;
+                r.haloFraction = b.haloFraction;
             }
         };
         std::vector<std::future<void>> jobs;
@@ -151,8 +152,21 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
         work(0);
         for (auto& j : jobs)
             j.get();
+        a.sharpeningHalo = sharpeningHalo(a.regions);
     }
     return a;
+}
+
+std::optional<double> sharpeningHalo(const std::vector<RegionResult>& regions) {
+    std::vector<double> halos;
+    for (const RegionResult& r : regions)
+        if (r.haloFraction) halos.push_back(*r.haloFraction);
+    const size_t needed = std::max<size_t>(3, std::min<size_t>(10, regions.size() / 2));
+    if (halos.size() < needed) return std::nullopt;
+    const auto mid = halos.begin() + static_cast<ptrdiff_t>(halos.size() / 2);
+    std::nth_element(halos.begin(), mid, halos.end());
+    if (halos.size() % 2 == 1) return *mid;
+    return 0.5 * (*mid + *std::max_element(halos.begin(), mid));
 }
 
 }  // namespace infocus

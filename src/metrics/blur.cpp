@@ -253,6 +253,8 @@ constexpr double kMomentSigmas = 3.0, kCleanCnr = 20.0;
 // What an edge needs to set the region's blur (measureBlur): a share of the region's best edge
 // quality, and a contrast of this many times the grey-level spread beside it.
 constexpr double kTrustedQuality = 0.3, kTrustedCnr = 5.0;
+// The widest σ (px) at which an edge's halo is counted (BlurEstimate::haloFraction).
+constexpr double kHaloSigmaPx = 2.0;
 // Quality above which an edge counts towards a region's blur at all.
 constexpr double kUsableQuality = 0.05;
 
@@ -780,6 +782,44 @@ size_t firstAtOrAfter(const BinList& bins, double x) {
     return countBefore(bins, [x](double pos) { return pos < x; });
 }
 
+// Sharpening halos of the ESF @p bins about an edge at @p mu whose line spread has the standard
+// deviation @p sd (px): the lesser of the two sides' excursions past their far plateaus (the
+// outermost 2 px of each side), on the ESF averaged over 1 px, within 2.5 sd + 2.5 px of the
+// edge, as a fraction of the far plateaus' contrast. Blur by any PSF keeps an edge's profile
+// between its plateaus, so a clean edge gives about 0; an unsharp mask raises a bright halo on
+// one side and a dark one on the other. Clutter (another edge in one side) mostly gives one.
+double esfHalo(const BinList& bins, double mu, double sd) {
+    const double* pos = bins.pos.data();
+    const double* value = bins.value.data();
+    const double* count = bins.count.data();
+    const size_t size = bins.size;
+    if (size < 2) return 0.0;
+    double sumLo = 0, nLo = 0, sumHi = 0, nHi = 0;
+    for (size_t k = 0; k < size && pos[k] < pos[0] + 2.0; ++k)
+        sumLo += value[k] * count[k], nLo += count[k];
+    for (size_t k = size; k-- > 0 && pos[k] > pos[size - 1] - 2.0;)
+        sumHi += value[k] * count[k], nHi += count[k];
+    const double lo = sumLo / nLo, hi = sumHi / nHi;
+    if (!(hi > lo)) return 0.0;
+    const double reach = 2.5 * sd + 2.5;
+    double above = 0.0, below = 0.0, sum = 0.0, n = 0.0;
+    // Each bin from 1 px before the reach on, with those less than 1 px after it (a running sum).
+    size_t i = firstAtOrAfter(bins, mu - reach - 1.0), j = i;
+    for (; i < size && pos[i] <= mu + reach; ++i) {
+        for (; j < size && pos[j] < pos[i] + 1.0; ++j)
+            sum += value[j] * count[j], n += count[j];
+        const double v = sum / n, centre = 0.5 * (pos[i] + pos[j - 1]);
+        if (std::abs(centre - mu) <= reach) {
+            if (centre > mu)
+                above = std::max(above, v - hi);
+            else
+                below = std::max(below, lo - v);
+        }
+        sum -= value[i] * count[i], n -= count[i];
+    }
+    return std::min(above, below) / (hi - lo);
+}
+
 // Second moment of the line spread from the binned ESF. The edge's extent is found in a window
 // grown or shrunk to 4 σ + 1 px about the centroid (holds 99.99 % of a Gaussian and all of a
 // disc), with the plateau levels just outside it; that window's variance (varLsf) rates and
@@ -961,9 +1001,9 @@ double relativeBend(double straightPx, double sigmaPx) {
     return straightPx / (0.3 + 0.25 * sigmaPx);
 }
 
-// The measurement of the edge on @p patch from its ESF fit @p f.
-EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, double straight,
-                                const BlurOptions& o) {
+// The measurement of the edge on @p patch from its ESF fit @p f of @p bins.
+EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, const BinList& bins,
+                                double straight, const BlurOptions& o) {
     EdgeMeasurement m;
     m.cx = patch.cx + f.mean * patch.nx;
     m.cy = patch.cy + f.mean * patch.ny;
@@ -982,6 +1022,9 @@ EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, double stra
     m.edgeWidthPx = dense ? std::sqrt(std::max(0.0, f.rise * f.rise - floorRise2))
                           : kGaussianRisePerSigma * m.sigmaPx;
     m.straightnessPx = straight;
+    // Halos only where a region may count them (blurFromEdges): a clean, sharp edge.
+    if (m.sigmaPx <= kHaloSigmaPx && f.contrast >= kCleanCnr * std::max(f.noise, 0.5))
+        m.haloFraction = esfHalo(bins, f.mean, std::sqrt(std::max(f.varLsf, 0.0)));
     const double sd = std::sqrt(std::max(f.varLsf, kPixelVariance));
     const double cnr = f.contrast / std::max(f.noise, 0.5);
     const double bend = relativeBend(straight, sd);
@@ -1086,7 +1129,7 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
         const EsfFit f = fitWithSecondStart(bins, terms, patch.hw, o.minContrast, narrowStart, dec);
         if (usable(f)) {
             track = {patch, line.straight, narrowStart, threshold, slices};
-            return makeMeasurement(patch, f, line.straight, o);
+            return makeMeasurement(patch, f, bins, line.straight, o);
         }
         if (f.ok) return std::nullopt;  // fitted, but clipped or collapsed: no wider patch helps
         if (!f.needWider || patch.hw >= o.maxHalfWidthPx) return std::nullopt;
@@ -1370,7 +1413,7 @@ std::optional<EdgeMeasurement> remeasureEdge(const Luma8& luma, const Bounds& sb
         terms.defer(bins, k);
         const EsfFit f =
             fitWithSecondStart(bins, terms, patch.hw, o.minContrast, track.narrowStart, dec);
-        if (usable(f)) return makeMeasurement(patch, f, track.straight, o);
+        if (usable(f)) return makeMeasurement(patch, f, bins, track.straight, o);
         if (!rescue) return std::nullopt;
         refit = true;
         if (!refitted) continue;
@@ -1409,13 +1452,15 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
     if (!std::isfinite(sharpest))
         for (const auto* e : good)
             sharpest = std::min(sharpest, e->sigmaPx);
-    double sw = 0, sv = 0, sr = 0;
+    double sw = 0, sv = 0, sr = 0, sh = 0, shw = 0;
     int agreeing = 0;
     for (const auto* e : good) {
         if (std::abs(e->sigmaPx - sharpest) > 0.25 * sharpest + 0.05) continue;
         sw += e->quality;
         sv += e->quality * e->sigmaPx * e->sigmaPx;
         sr += e->quality * e->edgeWidthPx * e->edgeWidthPx;
+        if (e->contrast >= kCleanCnr * std::max(e->noise, 0.5) && e->sigmaPx <= kHaloSigmaPx)
+            sh += e->quality * e->haloFraction, shw += e->quality;
         ++agreeing;
     }
     const double sigma = std::sqrt(sv / sw), width = std::sqrt(sr / sw);
@@ -1427,6 +1472,7 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
     est.edgeWidthPx = std::sqrt(
         std::max(0.0, width * width - kGaussianRisePerSigma * kGaussianRisePerSigma * floor2));
     est.edgeCount = agreeing;
+    if (shw > 0) est.haloFraction = sh / shw;
     // Confidence: mean quality of the agreeing edges, more edges better, discounted by the
     // share of edges that disagree with them (mixed widths: soft objects or several depths).
     const double agreement = static_cast<double>(agreeing) / good.size();
