@@ -14,6 +14,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 
 #include "infocus/synth.h"
 #include "tests/common/scratch_dir.h"
@@ -52,17 +53,23 @@ std::string writeEdge(const infocus::synth::Psf& psf, double angleDeg, uint64_t 
     return path;
 }
 
-// Runs `infocus analyze PATH --grid 1x1 --format jsonl` (and @p more options) and returns the
-// one region's object.
-nlohmann::json analyzeOneRegion(const std::string& path, const std::string& more = "") {
-    const std::string cmd =
-        "'" + gInfocus + "' analyze '" + path + "' --grid 1x1 --format jsonl" + more;
+// Runs the shell command @p cmd; returns what it printed and its exit status.
+std::pair<std::string, int> run(const std::string& cmd) {
     std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
     REQUIRE(pipe);
     std::string out;
     std::array<char, 4096> buf{};
     while (fgets(buf.data(), buf.size(), pipe.get()))
         out += buf.data();
+    return {out, pclose(pipe.release())};
+}
+
+// Runs `infocus analyze PATH --grid 1x1 --format jsonl` (and @p more options) and returns the
+// one region's object.
+nlohmann::json analyzeOneRegion(const std::string& path, const std::string& more = "") {
+    const std::string cmd =
+        "'" + gInfocus + "' analyze '" + path + "' --grid 1x1 --format jsonl" + more;
+    const std::string out = run(cmd).first;
     INFO(cmd << "\n" << out);
     const auto frame = nlohmann::json::parse(out);
     REQUIRE(frame["regions"].size() == 1);
@@ -136,16 +143,11 @@ TEST_CASE("analyze warns of a sharpened frame, and not of an unsharpened one", "
         REQUIRE(cv::imwrite(path, sharp ? sharpened : plain));
         // Standard error only; the frame still goes to standard output in full.
         const std::string cmd = "'" + gInfocus + "' analyze '" + path + "' 2>&1 >/dev/null";
-        std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
-        REQUIRE(pipe);
-        std::string err;
-        std::array<char, 4096> buf{};
-        while (fgets(buf.data(), buf.size(), pipe.get()))
-            err += buf.data();
+        const auto [err, status] = run(cmd);
         INFO(cmd << "\n" << err);
         const bool warned = err.find("the frames look sharpened") != std::string::npos;
         CHECK(warned == sharp);
-        CHECK(pclose(pipe.release()) == 0);
+        CHECK(status == 0);
     }
 }
 
