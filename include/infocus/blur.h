@@ -126,7 +126,8 @@ struct EdgeMeasurement {
     double straightnessPx = 0.0;  ///< RMS deviation of the edge from a straight line
     double quality = 0.0;         ///< 0..1 from contrast-to-noise and straightness
     /// Halos of in-camera sharpening: the lesser of the two sides' excursions past their far
-    /// plateaus near the edge, as a fraction of the contrast (about 0 for a blurred clean edge).
+    /// plateaus near the edge, as a fraction of the contrast (about 0 for a blurred clean edge);
+    /// 0 where not judged (σ over 2 px, or contrast under 20 × the spread beside the edge).
     double haloFraction = 0.0;
 };
 

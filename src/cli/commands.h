@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "infocus/analysis.h"
-
 #include "infocus/error.h"
 
 namespace infocus::cli {
