@@ -782,6 +782,26 @@ size_t firstAtOrAfter(const BinList& bins, double x) {
     return countBefore(bins, [x](double pos) { return pos < x; });
 }
 
+// Calls @p fn(centre, mean) for each bin from the first at or after @p from while its position
+// is at most @p to: mean is the ESF averaged over 1 px there (the bin and those less than 1 px
+// after it, by a running sum), centre the middle of those bins' positions.
+template <class Fn>
+void forEachPixelMean(const BinList& bins, double from, double to, Fn&& fn) {
+    const double* pos = bins.pos.data();
+    const double* value = bins.value.data();
+    const double* count = bins.count.data();
+    const size_t size = bins.size;
+    size_t i = firstAtOrAfter(bins, from), j = i;
+    double sum = 0.0;
+    double n = 0.0;  // a whole number of pixels
+    for (; i < size && pos[i] <= to; ++i) {
+        for (; j < size && pos[j] < pos[i] + 1.0; ++j)
+            sum += value[j] * count[j], n += count[j];
+        fn(0.5 * (pos[i] + pos[j - 1]), sum / n);
+        sum -= value[i] * count[i], n -= count[i];
+    }
+}
+
 // Sharpening halos of the ESF @p bins about an edge at @p mu whose line spread has the standard
 // deviation @p sd (px): the lesser of the two sides' excursions past their far plateaus (the
 // outermost 2 px of each side), on the ESF averaged over 1 px, within 2.5 sd + 2.5 px of the
@@ -802,21 +822,15 @@ double esfHalo(const BinList& bins, double mu, double sd) {
     const double lo = sumLo / nLo, hi = sumHi / nHi;
     if (!(hi > lo)) return 0.0;
     const double reach = 2.5 * sd + 2.5;
-    double above = 0.0, below = 0.0, sum = 0.0, n = 0.0;
-    // Each bin from 1 px before the reach on, with those less than 1 px after it (a running sum).
-    size_t i = firstAtOrAfter(bins, mu - reach - 1.0), j = i;
-    for (; i < size && pos[i] <= mu + reach; ++i) {
-        for (; j < size && pos[j] < pos[i] + 1.0; ++j)
-            sum += value[j] * count[j], n += count[j];
-        const double v = sum / n, centre = 0.5 * (pos[i] + pos[j - 1]);
-        if (std::abs(centre - mu) <= reach) {
-            if (centre > mu)
-                above = std::max(above, v - hi);
-            else
-                below = std::max(below, lo - v);
-        }
-        sum -= value[i] * count[i], n -= count[i];
-    }
+    double above = 0.0, below = 0.0;
+    // From 1 px before the reach, so that every 1 px mean centred within it is seen.
+    forEachPixelMean(bins, mu - reach - 1.0, mu + reach, [&](double centre, double v) {
+        if (std::abs(centre - mu) > reach) return;
+        if (centre > mu)
+            above = std::max(above, v - hi);
+        else
+            below = std::max(below, lo - v);
+    });
     return std::min(above, below) / (hi - lo);
 }
 
@@ -943,19 +957,10 @@ EsfFit fitEsf(const BinList& bins, PairTerms& terms, double halfWidth, double mi
     // A clean edge rises monotonically from one plateau to the other. A second edge inside the
     // window (a thin line, a small blob, crowded texture) overshoots a plateau: measure by how
     // much, on the ESF averaged over 1 px so that noise does not count.
-    // The bins within the window, each with those less than 1 px after it (a running sum).
     double overshoot = 0.0;
-    size_t i = firstAtOrAfter(bins, mu - radius);
-    size_t j = i;
-    double sum = 0.0;
-    double n = 0.0;  // a whole number of pixels
-    for (; i < size && pos[i] <= mu + radius; ++i) {
-        for (; j < size && pos[j] < pos[i] + 1.0; ++j)
-            sum += value[j] * count[j], n += count[j];
-        const double v = sum / n;
+    forEachPixelMean(bins, mu - radius, mu + radius, [&](double, double v) {
         overshoot = std::max({overshoot, v - (f.profileLo + f.profileContrast), f.profileLo - v});
-        sum -= value[i] * count[i], n -= count[i];
-    }
+    });
     f.overshoot = overshoot / f.profileContrast;
     f.ok = true;
     return f;
