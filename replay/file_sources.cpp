@@ -88,6 +88,10 @@ public:
         i.size = h.size;
         i.fps = h.fps;
         i.frameCount = static_cast<int64_t>(r_->frameCount());
+        i.transfer.curve = h.transfer.curve;
+        i.transfer.origin = h.transfer.origin.empty()
+                                ? "the recording's header names no transfer function"
+                                : "the recording's header: " + h.transfer.origin;
         return i;
     }
     size_t count() const override { return r_->frameCount(); }
@@ -260,6 +264,7 @@ public:
         i.size = size_;
         i.fps = fps_;
         i.frameCount = static_cast<int64_t>(offsets_.size());
+        i.transfer.origin = "a Y4M header names no transfer function";
         return i;
     }
     size_t count() const override { return offsets_.size(); }
@@ -402,6 +407,18 @@ public:
         i.size = first_.size;
         i.fps = fps_;
         i.frameCount = static_cast<int64_t>(files_.size());
+        // Viewers take an image without a colour profile as sRGB, and cameras write them so;
+        // 16-bit files come from raw converters as often linear as encoded.
+        if (first_.format == PixelFormat::Y16) {
+            i.transfer.origin =
+                "a 16-bit image file may hold linear or encoded levels, and "
+                "infocus reads no colour profile";
+        } else {
+            i.transfer.curve = TransferFunction::Srgb;
+            i.transfer.origin =
+                "image files are sRGB unless a colour profile says otherwise, "
+                "and infocus reads none";
+        }
         return i;
     }
     size_t count() const override { return files_.size(); }
@@ -462,6 +479,7 @@ public:
         i.size = size_;
         i.fps = fps_;
         if (count_ < SIZE_MAX / 2) i.frameCount = static_cast<int64_t>(count_);
+        i.transfer.origin = "OpenCV does not report a video file's transfer function";
         return i;
     }
     size_t count() const override { return count_; }

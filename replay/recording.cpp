@@ -107,6 +107,11 @@ nlohmann::ordered_json headerToJson(const RecordingHeader& h) {
     } else {
         j["focus_control"] = nullptr;
     }
+    if (h.transfer.curve)
+        j["transfer"] = transferFunctionName(*h.transfer.curve);
+    else
+        j["transfer"] = nullptr;
+    j["transfer_origin"] = h.transfer.origin;
     j["frames_file"] = replay::kFramesFileName;
     return j;
 }
@@ -184,6 +189,17 @@ Result<RecordingHeader> headerFromJson(const std::string& path, const std::strin
             r.unit = f.at("unit").get<std::string>();
             h.focus = r;
         }
+        // Absent from recordings made before infocus read transfer functions: unknown.
+        field = "transfer";
+        if (j.contains("transfer") && !j["transfer"].is_null()) {
+            const std::string name = j["transfer"].get<std::string>();
+            h.transfer.curve = transferFunctionFromName(name);
+            if (!h.transfer.curve)
+                return bad("\"transfer\" is '" + name +
+                           "'; it must be linear, srgb, rec709 or null");
+        }
+        field = "transfer_origin";
+        h.transfer.origin = j.value("transfer_origin", std::string());
     } catch (const nlohmann::json::exception& e) {
         return bad("\"" + field + "\" missing or of the wrong type (" + e.what() + ")");
     }
@@ -203,6 +219,7 @@ RecordingHeader makeRecordingHeader(const SourceInfo& info, const FocusControl* 
     h.size = info.size;
     h.fps = info.fps;
     if (focus) h.focus = focus->range();
+    h.transfer = info.transfer;
     h.createdUnixS = static_cast<int64_t>(std::time(nullptr));
     return h;
 }

@@ -10,6 +10,8 @@
 ///   `source` (the source string that was recorded), `device`, `driver`, `pixel_format` (name),
 ///   `width_px`, `height_px`, `fps` (nominal, 0 when unknown), `created_unix_s`, and
 ///   `focus_control` (null, or `{min, max, step, default, unit}` in the control's native unit),
+///   `transfer` (how the frames encode light: "linear", "srgb", "rec709" or null when unknown;
+///   absent from older recordings), `transfer_origin` (where the source took it from),
 ///   `frames_file`.
 ///
 /// - `frames.bin`: an append-only sequence of records, one per frame, each written with a single

@@ -574,6 +574,7 @@ public:
         i.format = c.format;
         i.size = c.size;
         i.fps = c.fps;
+        i.transfer = {TransferFunction::Linear, "the simulated camera renders linear light"};
         return i;
     }
     Status start() override {

@@ -3,6 +3,7 @@
 
 #include <libcamera/camera.h>
 #include <libcamera/camera_manager.h>
+#include <libcamera/color_space.h>
 #include <libcamera/control_ids.h>
 #include <libcamera/formats.h>
 #include <libcamera/framebuffer.h>
@@ -71,6 +72,21 @@ PixelFormat fromLibcamera(const lc::PixelFormat& f) {
     for (const auto& [l, p] : kMap)
         if (l == f) return p;
     return PixelFormat::Invalid;
+}
+
+// The transfer function of a stream's colour space (StreamConfiguration::colorSpace).
+TransferReport transferOf(const std::optional<lc::ColorSpace>& cs) {
+    if (!cs) return {std::nullopt, "libcamera reports no colour space for the stream"};
+    const std::string how = "libcamera's colour space " + cs->toString();
+    switch (cs->transferFunction) {
+        case lc::ColorSpace::TransferFunction::Linear:
+            return {TransferFunction::Linear, how};
+        case lc::ColorSpace::TransferFunction::Srgb:
+            return {TransferFunction::Srgb, how};
+        case lc::ColorSpace::TransferFunction::Rec709:
+            return {TransferFunction::Rec709, how};
+    }
+    return {std::nullopt, how + ", whose transfer function is unknown to infocus"};
 }
 
 std::optional<double> maxFps(const lc::Camera& camera) {
@@ -250,6 +266,7 @@ public:
                 -r);
         stream_ = sc.stream();
         stride_ = sc.stride;
+        transfer_ = transferOf(sc.colorSpace);
         allocator_ = std::make_unique<lc::FrameBufferAllocator>(camera_);
         if (int r = allocator_->allocate(stream_); r < 0)
             return makeError(ErrorKind::Device,
@@ -280,6 +297,7 @@ public:
         i.format = mode_.format;
         i.size = mode_.size;
         i.fps = requestedFps_.value_or(mode_.fps);
+        i.transfer = transfer_;
         return i;
     }
 
@@ -466,6 +484,7 @@ private:
     std::unique_ptr<LibcameraFocus> focus_;
     lc::Stream* stream_ = nullptr;
     size_t stride_ = 0;
+    TransferReport transfer_;  // the stream's, from its colour space
     capture::Mode mode_;
     std::optional<double> requestedFps_;
     bool acquired_ = false;
@@ -531,6 +550,7 @@ Result<std::vector<DeviceInfo>> listLibcameraDevices() {
         if (auto config = viewfinderConfiguration(*camera); config && !config->empty()) {
             const auto& sc = config->at(0);
             info.currentFormat = sc.pixelFormat.toString() + " " + sc.size.toString();
+            info.currentTransfer = transferOf(sc.colorSpace);
             for (const auto& f : offeredModes(*camera, sc)) {
                 DeviceFormat df;
                 df.fourcc = f.description;

@@ -92,6 +92,36 @@ PixelFormat pixelFormatFromV4l2(uint32_t fourcc) {
     return isSupported(f) ? f : PixelFormat::Invalid;
 }
 
+TransferReport transferFromV4l2(uint32_t colorspace, uint32_t xferFunc) {
+    const bool byDefault = xferFunc == V4L2_XFER_FUNC_DEFAULT;
+    // A driver that leaves both at 0 says nothing; the kernel's map would read that as BT.709.
+    if (byDefault && colorspace == V4L2_COLORSPACE_DEFAULT)
+        return {std::nullopt, "the V4L2 driver reports no colour space for the format"};
+    const uint32_t xfer =
+        byDefault ? static_cast<uint32_t>(V4L2_MAP_XFER_FUNC_DEFAULT(colorspace)) : xferFunc;
+    const std::string how =
+        byDefault ? "the V4L2 format's colour space" : "the V4L2 format's transfer function";
+    switch (xfer) {
+        case V4L2_XFER_FUNC_SRGB:
+            return {TransferFunction::Srgb, how};
+        case V4L2_XFER_FUNC_709:
+            return {TransferFunction::Rec709, how};
+        case V4L2_XFER_FUNC_NONE:
+            return {TransferFunction::Linear, how};
+        case V4L2_XFER_FUNC_OPRGB:
+            return {std::nullopt, how + " is opRGB, which infocus does not decode"};
+        case V4L2_XFER_FUNC_SMPTE240M:
+            return {std::nullopt, how + " is SMPTE 240M, which infocus does not decode"};
+        case V4L2_XFER_FUNC_DCI_P3:
+            return {std::nullopt, how + " is DCI-P3, which infocus does not decode"};
+        case V4L2_XFER_FUNC_SMPTE2084:
+            return {std::nullopt, how + " is SMPTE 2084 (HDR), which infocus does not decode"};
+        default:
+            break;
+    }
+    return {std::nullopt, how + " is " + std::to_string(xfer) + ", unknown to infocus"};
+}
+
 Device::~Device() {
     if (fd_ >= 0) ::close(fd_);
 }
@@ -213,6 +243,15 @@ std::optional<capture::Mode> Device::currentMode() const {
     return m;
 }
 
+std::optional<TransferReport> Device::currentTransfer() const {
+    v4l2_format fmt{};
+    fmt.type = cap_.bufType();
+    if (ioctl(VIDIOC_G_FMT, &fmt) < 0) return std::nullopt;
+    return cap_.multiplanar()
+               ? transferFromV4l2(fmt.fmt.pix_mp.colorspace, fmt.fmt.pix_mp.xfer_func)
+               : transferFromV4l2(fmt.fmt.pix.colorspace, fmt.fmt.pix.xfer_func);
+}
+
 std::optional<v4l2_queryctrl> Device::queryControl(uint32_t cid) const {
     v4l2_queryctrl q{};
     q.id = cid;
@@ -277,6 +316,7 @@ Result<DeviceInfo> describeDevice(const std::string& path) {
     if (auto m = dev->currentMode())
         info.currentFormat = fourccText(m->fourcc) + " " + std::to_string(m->size.width) + "x" +
                              std::to_string(m->size.height);
+    info.currentTransfer = dev->currentTransfer();
     for (auto& f : dev->enumerateFormats()) {
         DeviceFormat df;
         df.fourcc = fourccText(f.fourcc);

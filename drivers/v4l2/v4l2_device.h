@@ -40,6 +40,11 @@ struct Capability {
 /// to their contiguous twins. Invalid when infocus cannot read it.
 PixelFormat pixelFormatFromV4l2(uint32_t fourcc);
 
+/// The transfer function of a format of @p colorspace and @p xferFunc (v4l2_pix_format's fields).
+/// V4L2_XFER_FUNC_DEFAULT stands for the colour space's own curve, as V4L2_MAP_XFER_FUNC_DEFAULT
+/// maps it; opRGB, SMPTE 240M, DCI-P3 and SMPTE 2084 are named but not decoded.
+TransferReport transferFromV4l2(uint32_t colorspace, uint32_t xferFunc);
+
 /// An open device node; closes it on destruction.
 class Device {
 public:
@@ -66,6 +71,8 @@ public:
     bool trySize(uint32_t fourcc, Size size) const;
     /// The current capture mode (format, size, rate), when the driver reports it.
     std::optional<capture::Mode> currentMode() const;
+    /// The current format's transfer function (transferFromV4l2), when the driver reports it.
+    std::optional<TransferReport> currentTransfer() const;
 
     /// The description of control @p cid, or nullopt when the node lacks it or it is disabled.
     std::optional<v4l2_queryctrl> queryControl(uint32_t cid) const;

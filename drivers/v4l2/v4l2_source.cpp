@@ -117,8 +117,10 @@ public:
         mplane_ = dev_.capability().multiplanar();
         if (mplane_) {
             stride_ = fmt.fmt.pix_mp.plane_fmt[0].bytesperline;
+            transfer_ = transferFromV4l2(fmt.fmt.pix_mp.colorspace, fmt.fmt.pix_mp.xfer_func);
         } else {
             stride_ = fmt.fmt.pix.bytesperline;
+            transfer_ = transferFromV4l2(fmt.fmt.pix.colorspace, fmt.fmt.pix.xfer_func);
         }
         v4l2_requestbuffers req{};
         req.count = kBufferCount;
@@ -167,6 +169,7 @@ public:
         i.format = mode_.format;
         i.size = mode_.size;
         i.fps = mode_.fps;
+        i.transfer = transfer_;
         return i;
     }
 
@@ -367,6 +370,7 @@ private:
     std::unique_ptr<V4l2Focus> focus_;
     bool mplane_ = false;
     size_t stride_ = 0;
+    TransferReport transfer_;  // what the format says of its grey levels
     unsigned queued_ = 0;
     bool streaming_ = false;
     bool gone_ = false;

@@ -78,6 +78,9 @@ struct AnalysisOptions {
     double blurSearchBudgetS = 0.0;
     /// How the frames' grey levels encode light; blur is measured in linear light.
     TransferFunction transfer = TransferFunction::Linear;
+    /// analyzeSource only: take the transfer function the source reports (SourceInfo::transfer)
+    /// instead of @ref transfer, which stays for a source that reports none.
+    bool transferFromSource = false;
 };
 
 /// Analyses frames one after another, reusing its buffers and JPEG decoder. Not thread-safe
@@ -107,11 +110,17 @@ using AnalysisSink = std::function<Status(const FrameAnalysis&)>;
 /// Receives each frame the source reported as damaged (ErrorKind::Corrupt) and skipped.
 using DamageSink = std::function<void(const Error&)>;
 
+struct SourceInfo;
+/// Told once the source is open, before its first frame: what the source delivers, and the options
+/// its frames are analysed with (AnalysisOptions::transferFromSource resolved).
+using StartSink = std::function<void(const SourceInfo&, const AnalysisOptions&)>;
+
 /// Opens @p source (a source string, see source.h) and analyses up to @p maxFrames frames
 /// (0: until the source ends), handing each result to @p sink in order. A damaged frame is
 /// skipped and reported to @p onDamaged (when given); the frames after it are still analysed.
 Status analyzeSource(std::string_view source, const AnalysisOptions& options, uint64_t maxFrames,
-                     const AnalysisSink& sink, const DamageSink& onDamaged = {});
+                     const AnalysisSink& sink, const DamageSink& onDamaged = {},
+                     const StartSink& onStart = {});
 
 /// Serialises @p a as one JSONL line (no trailing newline) with the fields of DESIGN.md.
 std::string toJsonLine(const FrameAnalysis& a);

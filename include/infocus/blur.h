@@ -14,14 +14,6 @@
 
 namespace infocus {
 
-/// How a frame's grey levels encode light. Blur spreads light, so an edge's profile is measured in
-/// linear light: the grey levels of an encoded frame are decoded first (docs/blur.md, Accuracy).
-enum class TransferFunction {
-    Linear,  ///< grey level proportional to light (raw sensor data, the synthetic generator)
-    Srgb,    ///< IEC 61966-2-1 (JPEG files, most webcams and phone images)
-    Rec709,  ///< ITU-R BT.709 camera curve (HD video)
-};
-
 /// Tuning knobs of measureBlur; the defaults suit 8-bit video-rate use. A value outside a knob's
 /// range is taken as the nearest one inside it, and one that is not a number as the default.
 struct BlurOptions {

@@ -52,7 +52,8 @@ struct DeviceInfo {
     std::string card;    ///< card or model name
     std::string bus;     ///< bus info (V4L2) or location
     bool mediaController = false;  ///< V4L2 node of a media-controller pipeline (use libcamera)
-    std::optional<std::string> currentFormat;  ///< "YUYV 640x480" when readable
+    std::optional<std::string> currentFormat;       ///< "YUYV 640x480" when readable
+    std::optional<TransferReport> currentTransfer;  ///< the current format's, when readable
     std::vector<DeviceFormat> formats;
     std::optional<DeviceControl> focus;  ///< absolute focus, when the camera can move its lens
     bool focusRelative = false;          ///< has V4L2_CID_FOCUS_RELATIVE (moves without position)

@@ -7,9 +7,40 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace infocus {
+
+/// How a frame's grey levels encode light. Blur spreads light, so an edge's profile is measured in
+/// linear light: the grey levels of an encoded frame are decoded first (docs/blur.md, Accuracy).
+enum class TransferFunction {
+    Linear,  ///< grey level proportional to light (raw sensor data, the synthetic generator)
+    Srgb,    ///< IEC 61966-2-1 (JPEG files, most webcams and phone images)
+    Rec709,  ///< ITU-R BT.709 camera curve (HD video)
+};
+
+/// The name of @p tf as the command line takes it: "linear", "srgb" or "rec709".
+constexpr const char* transferFunctionName(TransferFunction tf) {
+    switch (tf) {
+        case TransferFunction::Srgb:
+            return "srgb";
+        case TransferFunction::Rec709:
+            return "rec709";
+        case TransferFunction::Linear:
+            break;
+    }
+    return "linear";
+}
+
+/// The transfer function named @p name as transferFunctionName gives it; nullopt for any other.
+constexpr std::optional<TransferFunction> transferFunctionFromName(std::string_view name) {
+    for (const auto tf :
+         {TransferFunction::Linear, TransferFunction::Srgb, TransferFunction::Rec709})
+        if (name == transferFunctionName(tf)) return tf;
+    return std::nullopt;
+}
 
 /// A read-only single-channel image. Pixels are borrowed; @ref storage keeps them alive when the
 /// image owns them (a view into a frame keeps the frame's storage instead).

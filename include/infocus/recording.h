@@ -28,7 +28,10 @@ struct RecordingHeader {
     Size size;
     double fps = 0.0;                 ///< nominal frame rate, 0 when unknown
     std::optional<FocusRange> focus;  ///< the focus control, when the source had one
-    int64_t createdUnixS = 0;         ///< wall-clock creation time, seconds since 1970
+    /// How the frames encode light, as the source said (SourceInfo::transfer); header fields
+    /// `transfer` (a transferFunctionName, or null) and `transfer_origin`.
+    TransferReport transfer;
+    int64_t createdUnixS = 0;  ///< wall-clock creation time, seconds since 1970
 };
 
 /// Builds a header describing @p info and, when non-null, @p focus.

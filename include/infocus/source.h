@@ -14,6 +14,7 @@
 
 #include "infocus/error.h"
 #include "infocus/frame.h"
+#include "infocus/image.h"
 
 namespace infocus {
 
@@ -55,6 +56,15 @@ public:
     virtual int settleFrames() const = 0;
 };
 
+/// What a camera format, a file or a recording says of how its grey levels encode light.
+struct TransferReport {
+    /// The curve; nullopt when the source names none, or one infocus does not decode.
+    std::optional<TransferFunction> curve;
+    /// Where @ref curve comes from, or why it is unknown, for messages: "the V4L2 format's
+    /// colour space (sRGB)", "OpenCV does not report a video file's transfer function", ...
+    std::string origin;
+};
+
 /// What a source delivers, for `devices`, recordings and reports.
 struct SourceInfo {
     std::string sourceString;  ///< canonical source string that reopens this source
@@ -64,6 +74,9 @@ struct SourceInfo {
     Size size;
     double fps = 0.0;                   ///< nominal frame rate, 0 when unknown or unpaced
     std::optional<int64_t> frameCount;  ///< total frames for finite sources
+    /// How the frames' grey levels encode light, as the source says: a V4L2 format's transfer
+    /// function, libcamera's colour space, a recording's header, the convention of image files.
+    TransferReport transfer;
 };
 
 /// Counters a source keeps while streaming.

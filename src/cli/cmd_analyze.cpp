@@ -179,9 +179,8 @@ int runAnalyze(const AnalyzeArgs& args) {
     if (!search)
         return usageError(cmd, "--blur-search " + args.blurSearch +
                                    ": use all, auto or a number of regions 1-65536, e.g. 16");
-    const auto transfer = parseTransfer(args.transfer);
-    if (!transfer) return usageError(cmd, transferUsage(args.transfer));
-    options.transfer = *transfer;
+    if (!parseTransfer(args.transfer, options))
+        return usageError(cmd, transferUsage(args.transfer));
     options.blurSearchesPerFrame = search->perFrame;
     options.blurSearchBudgetS = search->budgetS;
     if (args.format != "jsonl" && args.format != "csv" && args.format != "table")
@@ -239,6 +238,9 @@ int runAnalyze(const AnalyzeArgs& args) {
         [&](const Error& e) {
             ++damaged;
             std::cerr << "infocus analyze: skipped a damaged frame: " << e.message << "\n";
+        },
+        [&](const SourceInfo& info, const AnalysisOptions& used) {
+            noteTransfer(cmd, info, used);
         });
     if (!st) {
         if (written)
@@ -286,7 +288,8 @@ Command addAnalyzeCommand(CLI::App& app) {
             ->capture_default_str();
     sub->add_option("--transfer", args->transfer,
                     "How grey levels encode light, for the blur width (measured in linear "
-                    "light): linear, srgb (JPEG files, most webcams) or rec709 (HD video)")
+                    "light): linear, srgb (JPEG files, most webcams), rec709 (HD video), or "
+                    "auto: the curve the camera's format, the recording or the file names")
         ->capture_default_str();
     sub->add_flag(
         "--centre-weighted", args->centreWeighted,

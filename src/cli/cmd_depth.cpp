@@ -289,10 +289,13 @@ int runDepth(const DepthArgs& args) {
         if (!grid) return usageError(kName, gridUsage(args.grid));
         options.cols = grid->first;
         options.rows = grid->second;
-        const auto transfer = parseTransfer(args.transfer);
-        if (!transfer) return usageError(kName, transferUsage(args.transfer));
-        options.transfer = *transfer;
-        if (const Status st = analyzeSource(args.input, options, args.frames, sink); !st)
+        if (!parseTransfer(args.transfer, options))
+            return usageError(kName, transferUsage(args.transfer));
+        const auto onStart = [&](const SourceInfo& info, const AnalysisOptions& used) {
+            noteTransfer(kName, info, used);
+        };
+        if (const Status st = analyzeSource(args.input, options, args.frames, sink, {}, onStart);
+            !st)
             return reportError(kName, st.error());
     }
     if (frames == 0)
@@ -324,8 +327,10 @@ Command addDepthCommand(CLI::App& app) {
     sub->add_option("--frames", args->frames, "Frames to analyse (SOURCE input; 0: all)")
         ->check(frameCount())
         ->capture_default_str();
-    sub->add_option("--transfer", args->transfer,
-                    "How grey levels encode light (SOURCE input): linear, srgb or rec709")
+    sub->add_option(
+           "--transfer", args->transfer,
+           "How grey levels encode light (SOURCE input): linear, srgb, rec709 or auto (the "
+           "source's own)")
         ->capture_default_str();
     sub->add_flag("--json", args->json, "One JSON object per frame (JSONL)");
     sub->footer(

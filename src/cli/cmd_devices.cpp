@@ -54,6 +54,11 @@ void printText(const std::vector<DeviceInfo>& devices) {
         if (d.mediaController)
             std::printf("    media-controller node: streams through libcamera, not directly\n");
         if (d.currentFormat) std::printf("    current: %s\n", d.currentFormat->c_str());
+        if (d.currentTransfer)
+            std::printf("    transfer function: %s (%s%s)\n",
+                        d.currentTransfer->curve ? transferFunctionName(*d.currentTransfer->curve)
+                                                 : "unknown",
+                        d.currentTransfer->curve ? "from " : "", d.currentTransfer->origin.c_str());
         for (const auto& f : d.formats) {
             std::printf("    %-6s %s%s\n", f.fourcc.c_str(), f.description.c_str(),
                         f.format == PixelFormat::Invalid ? " (infocus cannot read it)" : "");
@@ -102,6 +107,10 @@ int runDevices(const DevicesArgs& args) {
             j["media_controller"] = d.mediaController;
             j["current_format"] = d.currentFormat ? nlohmann::ordered_json(*d.currentFormat)
                                                   : nlohmann::ordered_json();
+            j["current_transfer"] =
+                d.currentTransfer && d.currentTransfer->curve
+                    ? nlohmann::ordered_json(transferFunctionName(*d.currentTransfer->curve))
+                    : nlohmann::ordered_json();
             auto formats = nlohmann::ordered_json::array();
             for (const auto& f : d.formats) {
                 nlohmann::ordered_json jf;

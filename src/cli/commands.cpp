@@ -40,6 +40,24 @@ void warnIfSharpened(const std::string& command, const FrameAnalysis& a, bool& w
               << std::defaultfloat;
 }
 
+void noteTransfer(const std::string& command, const SourceInfo& source,
+                  const AnalysisOptions& options) {
+    if (!options.transferFromSource) return;
+    const auto& [curve, told] = source.transfer;
+    const std::string origin = told.empty() ? "the source names no transfer function" : told;
+    if (curve == TransferFunction::Linear)
+        std::cerr << "infocus " << command << ": the frames hold linear light, measured as they "
+                  << "are (--transfer auto: " << origin << ")\n";
+    else if (curve)
+        std::cerr << "infocus " << command << ": blur measured in linear light, the frames decoded "
+                  << "from " << (*curve == TransferFunction::Srgb ? "sRGB" : "BT.709")
+                  << " (--transfer auto: " << origin << ")\n";
+    else
+        std::cerr << "infocus " << command << ": --transfer auto: " << origin
+                  << "; grey levels measured as they are (linear): give --transfer srgb or rec709 "
+                     "if you know the camera's curve\n";
+}
+
 int usageError(const std::string& command, const std::string& message) {
     std::cerr << "infocus " << command << ": " << message << "\n"
               << "Run 'infocus " << command << " --help' for the options.\n";

@@ -12,6 +12,7 @@
 
 #include "infocus/analysis.h"
 #include "infocus/error.h"
+#include "infocus/source.h"
 
 namespace infocus::cli {
 
@@ -39,6 +40,12 @@ int usageError(const std::string& command, const std::string& message);
 /// (FrameAnalysis::sharpeningHalo at least kSharpenedHaloFraction), and why it matters;
 /// @p warned remembers that it was said.
 void warnIfSharpened(const std::string& command, const FrameAnalysis& a, bool& warned);
+
+/// With --transfer auto (@p options.transferFromSource), says once on stderr, as @p command,
+/// which transfer function the frames of @p source are decoded by and where it comes from, or
+/// that the source names none and its grey levels are measured as they are.
+void noteTransfer(const std::string& command, const SourceInfo& source,
+                  const AnalysisOptions& options);
 
 /// Checks a --frames value: a whole number ≥ @p least, read before it is converted to an
 /// unsigned count (where "-1" would wrap to 2^64 − 1 and never stop).

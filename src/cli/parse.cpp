@@ -39,11 +39,15 @@ std::optional<Rect> parseRoi(std::string_view text) {
     return Rect{(*v)[0], (*v)[1], (*v)[2], (*v)[3]};
 }
 
-std::optional<TransferFunction> parseTransfer(std::string_view text) {
-    if (text == "linear") return TransferFunction::Linear;
-    if (text == "srgb") return TransferFunction::Srgb;
-    if (text == "rec709") return TransferFunction::Rec709;
-    return std::nullopt;
+bool parseTransfer(std::string_view text, AnalysisOptions& options) {
+    options.transferFromSource = text == "auto";
+    if (options.transferFromSource) {
+        options.transfer = TransferFunction::Linear;
+        return true;
+    }
+    const auto tf = transferFunctionFromName(text);
+    if (tf) options.transfer = *tf;
+    return tf.has_value();
 }
 
 std::string gridUsage(std::string_view text) {
@@ -52,7 +56,8 @@ std::string gridUsage(std::string_view text) {
 
 std::string transferUsage(std::string_view text) {
     return "--transfer " + std::string(text) +
-           ": use linear, srgb or rec709 (JPEG files and most webcams: srgb)";
+           ": use linear, srgb, rec709 (JPEG files and most webcams: srgb) or auto (the camera's "
+           "or file's own)";
 }
 
 }  // namespace infocus::cli

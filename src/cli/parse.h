@@ -8,7 +8,7 @@
 #include <string_view>
 #include <utility>
 
-#include "infocus/blur.h"
+#include "infocus/analysis.h"
 #include "infocus/image.h"
 #include "src/core/read_number.h"
 
@@ -21,8 +21,9 @@ std::optional<std::pair<int, int>> parseGrid(std::string_view text);
 /// Parses "x,y,w,h" (non-negative integers) into a rectangle; nullopt when malformed.
 std::optional<Rect> parseRoi(std::string_view text);
 
-/// Parses a transfer function, "linear", "srgb" or "rec709"; nullopt otherwise.
-std::optional<TransferFunction> parseTransfer(std::string_view text);
+/// Sets @p options' transfer function from a --transfer value: "linear", "srgb", "rec709", or
+/// "auto" (the one the source reports, linear when it reports none). False for any other.
+bool parseTransfer(std::string_view text, AnalysisOptions& options);
 
 /// What to say of a --grid value @p text that parseGrid refuses.
 std::string gridUsage(std::string_view text);

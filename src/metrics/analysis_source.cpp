@@ -7,12 +7,23 @@
 namespace infocus {
 
 Status analyzeSource(std::string_view source, const AnalysisOptions& options, uint64_t maxFrames,
-                     const AnalysisSink& sink, const DamageSink& onDamaged) {
+                     const AnalysisSink& sink, const DamageSink& onDamaged,
+                     const StartSink& onStart) {
+    // Options are checked before the source opens: a mistyped grid must not wait on a camera.
     auto analyzer = Analyzer::create(options);
     if (!analyzer) return analyzer.error();
     auto src = openSource(source);
     if (!src) return src.error();
     FrameSource& s = **src;
+    const SourceInfo info = s.info();
+    AnalysisOptions used = options;
+    if (options.transferFromSource && info.transfer.curve &&
+        *info.transfer.curve != options.transfer) {
+        used.transfer = *info.transfer.curve;
+        analyzer = Analyzer::create(used);
+        if (!analyzer) return analyzer.error();
+    }
+    if (onStart) onStart(info, used);
     if (auto st = s.start(); !st) return st.error();
     Status result;
     for (uint64_t i = 0; maxFrames == 0 || i < maxFrames; ++i) {

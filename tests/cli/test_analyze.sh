@@ -114,7 +114,13 @@ expect_usage "x,y,w,h" "$tmp/good" --roi 1,2,3
 expect_usage "all, auto or a number of regions" "$tmp/good" --blur-search some
 expect_usage "all, auto or a number of regions" "$tmp/good" --blur-search 0
 expect_usage "drop one of them" "$tmp/good" --no-blur --blur-search 4
-expect_usage "use linear, srgb or rec709" "$tmp/good" --transfer gamma
+expect_usage "use linear, srgb, rec709 .* or auto" "$tmp/good" --transfer gamma
+# --transfer auto on a source that names no transfer function: measured as it is, and said why.
+{ printf 'YUV4MPEG2 W64 H48 F25:1 Ip A1:1 Cmono\nFRAME\n'; head -c 3072 /dev/urandom; } >"$tmp/plain.y4m"
+e=$("$bin" analyze "$tmp/plain.y4m" --grid 1x1 --transfer auto 2>&1 >/dev/null)
+s=$?
+[[ $s -eq 0 ]] && grep -q "transfer auto: a Y4M header names no transfer function; grey levels measured as they are" <<<"$e" &&
+	ok || bad "transfer auto on y4m -> $s: $e"
 # A negative frame count is refused, not wrapped to 2^64 − 1 (it ran without end on a camera).
 expect_usage "not a frame count" "$tmp/good" --frames -1
 # A region whose far edge passes INT_MAX: outside the frame, not wrapped around (it crashed).

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // End to end: `infocus analyze IMAGE --grid 1x1` on PNG files of edges with a known disc or
 // Gaussian blur (the synthetic generator, 1 % noise) reports the blur within the targets, and
-// with --transfer srgb so does an sRGB-encoded one; a sharpened frame draws a warning.
+// with --transfer srgb (or auto, for an image file) so does an sRGB-encoded one; a sharpened frame
+// draws a warning.
 #define CATCH_CONFIG_RUNNER
 #include <catch2/catch.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -120,6 +121,40 @@ TEST_CASE("analyze --transfer srgb reads an sRGB-encoded edge's blur in light", 
             CHECK(decoded["blur_sigma_px"].get<double>() == Approx(s).epsilon(0.03));  // target
             CHECK(raw["blur_sigma_px"].get<double>() > 1.04 * s);
         }
+}
+
+TEST_CASE("analyze --transfer auto decodes what the source names", "[cli][blur]") {
+    // An image file is sRGB by convention: its sRGB-encoded edge reads its blur in light, as with
+    // --transfer srgb, and stderr says so.
+    const std::string path = writeEdge(infocus::synth::Psf::gaussian(2.0), 21.0, 190, "auto", true);
+    const auto decoded = analyzeOneRegion(path, " --transfer auto 2>/dev/null");
+    const auto named = analyzeOneRegion(path, " --transfer srgb");
+    INFO(decoded.dump() << " / " << named.dump());
+    REQUIRE(decoded["blur_sigma_px"].is_number());
+    CHECK(decoded["blur_sigma_px"].get<double>() == Approx(2.0).epsilon(0.03));  // target
+    CHECK(decoded == named);
+    const std::string cmd =
+        "'" + gInfocus + "' analyze '" + path + "' --grid 1x1 --transfer auto 2>&1 >/dev/null";
+    const auto [err, status] = run(cmd);
+    INFO(cmd << "\n" << err);
+    CHECK(status == 0);
+    CHECK(err.find("decoded from sRGB (--transfer auto: image files are sRGB") !=
+          std::string::npos);
+
+    // A recording keeps its source's word: the simulated camera renders light, so a recording of
+    // it is measured as it is, and says where that came from.
+    static const infocus::test::ScratchDir scratch("infocus-test-auto-");
+    const std::string rec = scratch.file("sim");
+    REQUIRE(
+        run("'" + gInfocus + "' record 'sim:size=320x240' -o '" + rec + "' --frames 1").second ==
+        0);
+    const auto [said, st] =
+        run("'" + gInfocus + "' analyze '" + rec + "' --transfer auto 2>&1 >/dev/null");
+    INFO(said);
+    CHECK(st == 0);
+    CHECK(said.find("the frames hold linear light, measured as they are (--transfer auto: the "
+                    "recording's header: the simulated camera renders linear light)") !=
+          std::string::npos);
 }
 
 TEST_CASE("analyze warns of a sharpened frame, and not of an unsharpened one", "[cli][blur]") {

@@ -238,6 +238,47 @@ constexpr uint64_t kGreyRecord = sizeof(replay::RecordHeader) + 16 * 8;
 
 }  // namespace
 
+TEST_CASE("a recording keeps the transfer function its source named, and where it came from") {
+    for (const auto curve :
+         {std::optional<TransferFunction>{}, std::optional{TransferFunction::Linear},
+          std::optional{TransferFunction::Srgb}, std::optional{TransferFunction::Rec709}}) {
+        SourceInfo info;
+        info.sourceString = "v4l2:/dev/video0";
+        info.format = PixelFormat::GREY;
+        info.size = {16, 8};
+        info.transfer = {curve, "the V4L2 format's colour space"};
+        const std::string dir = tempDir("transfer");
+        {
+            auto w = RecordingWriter::create(dir, makeRecordingHeader(info, nullptr));
+            REQUIRE(w.ok());
+            REQUIRE((*w)->append(patterned(PixelFormat::GREY, {16, 8}, 0, 0)).ok());
+        }
+        auto r = RecordingReader::open(dir);
+        REQUIRE(r.ok());
+        CHECK((*r)->header().transfer.curve == curve);
+        CHECK((*r)->header().transfer.origin == "the V4L2 format's colour space");
+        auto s = openPath(dir);
+        REQUIRE(s.ok());
+        CHECK((*s)->info().transfer.curve == curve);
+        CHECK((*s)->info().transfer.origin ==
+              "the recording's header: the V4L2 format's colour space");
+    }
+    // Recordings made before the header named it replay as unknown, and say so.
+    const std::string dir = writeGrey(1);
+    std::ifstream in(dir + "/header.json");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    for (const std::string key : {"\"transfer\": null,\n", "\"transfer_origin\": \"\",\n"}) {
+        const size_t pos = text.find(key);
+        REQUIRE(pos != std::string::npos);
+        text.erase(pos, key.size());
+    }
+    std::ofstream(dir + "/header.json") << text;
+    auto s = openPath(dir);
+    REQUIRE(s.ok());
+    CHECK(!(*s)->info().transfer.curve);
+    CHECK((*s)->info().transfer.origin == "the recording's header names no transfer function");
+}
+
 TEST_CASE("a truncated recording replays its complete frames and reports the torn one") {
     const std::string dir = writeGrey(5);
     const std::string frames = dir + "/frames.bin";
@@ -396,6 +437,7 @@ TEST_CASE("bad recordings fail with errors that name the file and the problem") 
             {"format_version", "1.5"},    {"width_px", "\"16\""},
             {"height_px", "1e308"},       {"width_px", "4294967312"},
             {"created_unix_s", "1e308"},  {"width_px", "40000000"},
+            {"transfer", "\"gamma\""},    {"transfer", "2.2"},
         };
         for (const auto& [key, value] : edits) {
             INFO(key << ": " << value);

@@ -91,6 +91,28 @@ def main():
          "; measured σ " + ", ".join(f"{s}->{est[s]:.2f}" for s in sigmas if s in est) +
          ("" if len(sharp) == len(sigmas) else "; errors: " + text(t, "c_0", "err")[:200]))
 
+    # e. the transfer function each camera names, as --transfer auto reads it
+    said = {x: text(t, f"e_{x}", "err") for x in (0, 1, 5, 7)}
+    expected = {
+        0: "decoded from sRGB (--transfer auto: the V4L2 format's colour space)",
+        1: "decoded from BT.709 (--transfer auto: the V4L2 format's transfer function)",
+        5: "the frames hold linear light, measured as they are (--transfer auto: the V4L2 "
+           "format's transfer function)",
+        7: "SMPTE 2084 (HDR), which infocus does not decode; grey levels measured as they are",
+    }
+    try:
+        devs = json.loads(text(t, "e_dev", "out") or "[]")
+    except ValueError:
+        devs = []
+    listed = [d.get("current_transfer") for d in devs if d.get("driver") == "vivid"]
+    lc = text(t, "e_lc", "err")
+    ok = all(rc(t, f"e_{x}") == 0 and len(jsonl(t, f"e_{x}")) == 1 and expected[x] in said[x]
+             for x in said) and listed == ["rec709"] and rc(t, "e_lc") == 0 \
+        and "--transfer auto: libcamera" in lc
+    part("e transfer function", ok,
+         "; ".join(f"{x}: {said[x].strip()[:160]}" for x in said) +
+         f"; devices lists {listed}; libcamera: {lc.strip()[:200]}")
+
     # d. faults
     import re
     rec = text(t, "d_faults", "out")

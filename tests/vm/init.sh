@@ -55,6 +55,18 @@ run b_v4l2_ana infocus analyze /tmp/rec_v4l2 --grid 4x3
 run b_lc_rec infocus record libcamera:0 -o /tmp/rec_lc --frames 4
 run b_lc_ana infocus analyze /tmp/rec_lc --grid 4x3
 
+# e. the transfer function the camera's format names, on vivid's webcam input (before part c
+# turns on its loopback, which reports the output's): the colour space's own, then BT.709, none
+# (linear) and SMPTE 2084 set by its Transfer Function control; then libcamera's colour space
+v4l2-ctl -d "$cap" -i 0
+for x in 0 1 5 7; do
+	v4l2-ctl -d "$cap" -c transfer_function=$x 2>&1 | sed "s/^/@@diag_e /"
+	run e_$x infocus analyze "v4l2:$cap,size=320x180" --frames 1 --grid 2x2 --transfer auto
+	[ $x = 1 ] && run e_dev infocus devices --json
+done
+v4l2-ctl -d "$cap" -c transfer_function=0
+run e_lc infocus analyze libcamera:0 --frames 1 --grid 2x2 --transfer auto
+
 # c. loopback: frames of known blur through vivid's output node into its capture node
 v4l2-ctl -d "$cap" -i 2 -c loop_video=1 --set-fmt-video=width=720,height=480,pixelformat=YUYV,field=interlaced
 v4l2-ctl -d "$out" -o 0 --set-fmt-video-out=width=720,height=480,pixelformat=YUYV,field=interlaced
