@@ -70,6 +70,11 @@ struct AnalysisOptions {
     std::string metric;           ///< sharpness operator name; empty: the default operator
     bool measureBlur = true;      ///< also fill the blur fields (edge width, σ, disc diameter)
     bool centreWeighted = false;  ///< FrameAnalysis::frameSharpness weights the centre more
+    /// Remove from the scores the white noise estimated on each frame (FrameAnalysis::noiseSigma;
+    /// nullopt there when off). A focus sweep turns it off: the estimate reads a sharp frame's
+    /// fine texture as noise, and a correction that changes with the lens moves the peaks of
+    /// the regions' focus curves, while the noise itself is the same at every lens position.
+    bool noiseCorrection = true;
     /// 0: every region's edges searched afresh on every frame (measureBlurRegions). n > 0: the
     /// stream's edges measured again where they were found and n regions a frame searched
     /// afresh (BlurTracker): a bounded cost a frame for live cameras.

@@ -62,5 +62,6 @@ Command addDevicesCommand(CLI::App& app);
 Command addDofCommand(CLI::App& app);
 Command addDepthCommand(CLI::App& app);
 Command addRecordCommand(CLI::App& app);
+Command addSweepCommand(CLI::App& app);
 
 }  // namespace infocus::cli

@@ -91,8 +91,8 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
         }
     }
 
-    impl_->noiseSigma = estimateNoiseSigma(img);
-    a.noiseSigma = impl_->noiseSigma;
+    impl_->noiseSigma = o.noiseCorrection ? estimateNoiseSigma(img) : 0.0;
+    if (o.noiseCorrection) a.noiseSigma = impl_->noiseSigma;
     SharpnessParams params = impl_->params;
     params.noiseSigma = impl_->noiseSigma;
     std::vector<double> scores(rects.size());

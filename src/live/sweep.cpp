@@ -1,0 +1,241 @@
+// SPDX-License-Identifier: MIT
+// Focus sweep (include/infocus/sweep.h): lens moves, settle frames, one measured frame a
+// position, and the peaks of the focus curves.
+#include "infocus/sweep.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+namespace infocus {
+
+namespace {
+
+// The vertex of the parabola through (x0, y0), (x1, y1), (x2, y2) with x0 < x1 < x2 and y1 the
+// largest; nullopt when the three are collinear. Spacing need not be even (a control rounds to
+// its step).
+std::optional<double> parabolaVertex(double x0, double y0, double x1, double y1, double x2,
+                                     double y2) {
+    const double d0 = (y1 - y0) / (x1 - x0), d1 = (y2 - y1) / (x2 - x1);
+    const double curvature = (d1 - d0) / (x2 - x0);
+    if (!(curvature < 0)) return std::nullopt;
+    // y' = d0 + curvature·(2x − x0 − x1) = 0.
+    return (x0 + x1) / 2 - d0 / (2 * curvature);
+}
+
+std::string formatValue(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+// A position where the control reports it in its own unit, else what was asked for.
+LensPosition positionOf(const Frame& frame, FocusControl& control, double commanded,
+                        const std::string& unit) {
+    if (frame.lens && frame.lens->unit == unit) return *frame.lens;
+    if (auto p = control.get(); p && p->unit == unit) return *p;
+    LensPosition l{commanded, unit, std::nullopt};
+    if (unit == "dioptre") l.dioptres = commanded;
+    return l;
+}
+
+// Sorts (position, score) pairs by position and merges equal positions (a control that rounds
+// to its step, or the refinement measuring the first pass's best again) into their mean score.
+void sortedCurve(std::vector<std::pair<double, double>> pts, std::vector<double>& x,
+                 std::vector<double>& y) {
+    std::sort(pts.begin(), pts.end());
+    x.clear();
+    y.clear();
+    std::vector<int> count;
+    for (const auto& [p, s] : pts) {
+        if (!x.empty() && p == x.back()) {
+            y.back() += s;
+            ++count.back();
+            continue;
+        }
+        x.push_back(p);
+        y.push_back(s);
+        count.push_back(1);
+    }
+    for (size_t i = 0; i < y.size(); ++i)
+        y[i] /= count[i];
+}
+
+}  // namespace
+
+std::optional<FocusPeak> findFocusPeak(std::span<const double> positions,
+                                       std::span<const double> scores) {
+    const size_t n = positions.size();
+    if (n == 0 || scores.size() != n) return std::nullopt;
+    size_t k = n;
+    double lo = HUGE_VAL;
+    for (size_t i = 0; i < n; ++i) {
+        if (!std::isfinite(scores[i]) || !std::isfinite(positions[i])) return std::nullopt;
+        if (k == n || scores[i] > scores[k]) k = i;
+        lo = std::min(lo, scores[i]);
+    }
+    if (!(scores[k] > 0)) return std::nullopt;
+    FocusPeak peak;
+    peak.index = k;
+    peak.score = scores[k];
+    peak.position = positions[k];
+    peak.prominence = 1.0 - std::max(0.0, lo) / scores[k];
+    // A run of equal highest scores: the lens is within its depth of focus over the whole run
+    // (or the measure saturates), so the best focus is the run's middle.
+    const double tie = scores[k] * (1.0 - 1e-9);
+    size_t last = k;
+    while (last + 1 < n && scores[last + 1] >= tie)
+        ++last;
+    peak.lastIndex = last;
+    peak.atEnd = n > 1 && (k == 0 || last == n - 1);
+    if (last > k) {
+        peak.position = (positions[k] + positions[last]) / 2;
+        return peak;
+    }
+    if (k == 0 || k == n - 1) return peak;
+    // Positions may run either way: order the three points by position.
+    double x0 = positions[k - 1], x2 = positions[k + 1];
+    double y0 = scores[k - 1], y2 = scores[k + 1];
+    if (x0 > x2) std::swap(x0, x2), std::swap(y0, y2);
+    if (!(x0 < positions[k] && positions[k] < x2)) return peak;
+    // A focus curve is near Gaussian about its peak, so the parabola goes through the logs of
+    // the scores (Gaussian interpolation); where a neighbour scores 0 the plain scores are used.
+    std::optional<double> v;
+    if (y0 > 0 && y2 > 0)
+        v = parabolaVertex(x0, std::log(y0), positions[k], std::log(scores[k]), x2, std::log(y2));
+    else
+        v = parabolaVertex(x0, y0, positions[k], scores[k], x2, y2);
+    // The vertex lies between the neighbours when the middle score is the highest; clamp
+    // against rounding.
+    if (v) peak.position = std::clamp(*v, x0, x2);
+    return peak;
+}
+
+Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
+                             const SweepStepSink& onStep) {
+    FocusControl* control = source.focusControl();
+    const std::string name = source.info().sourceString;
+    if (!control)
+        return makeError(ErrorKind::Unsupported,
+                         name +
+                             " has no focus control: its lens cannot be moved; a sweep needs a "
+                             "motorised lens ('infocus devices' lists the cameras that have one, "
+                             "and sim: has one)");
+    SweepResult result;
+    result.range = control->range();
+    const FocusRange& range = result.range;
+    const double from = options.from.value_or(range.min), to = options.to.value_or(range.max);
+    const auto inRange = [&](double v) { return v >= range.min && v <= range.max; };
+    const std::string rangeText =
+        formatValue(range.min) + " to " + formatValue(range.max) + " " + range.unit;
+    if (!std::isfinite(from) || !std::isfinite(to) || !inRange(from) || !inRange(to))
+        return makeError(ErrorKind::Usage, "the sweep from " + formatValue(from) + " to " +
+                                               formatValue(to) +
+                                               " lies outside the lens range of " + name + " (" +
+                                               rangeText + "); give --from and --to within it");
+    if (from == to)
+        return makeError(ErrorKind::Usage, "the sweep starts and ends at " + formatValue(from) +
+                                               ": give --from and --to apart, within " + rangeText);
+    if (options.steps < 2 || options.steps > 1000 || options.refineSteps < 0 ||
+        options.refineSteps > 1000)
+        return makeError(ErrorKind::Usage,
+                         "a sweep takes 2 to 1000 positions and 0 to 1000 refinement positions");
+    const int settle = options.settleFrames.value_or(control->settleFrames());
+    if (settle < 0 || settle > 1000)
+        return makeError(ErrorKind::Usage, "settle frames must be 0 to 1000");
+
+    // The noise is the same at every position, but a per-frame estimate is not: it reads a
+    // sharp frame's fine texture as noise, and subtracting it pushes each region's peak away
+    // from the frame's (a tilted plane's regions read 1.4 times as spread without this).
+    AnalysisOptions analysis = options.analysis;
+    analysis.noiseCorrection = false;
+    auto analyzer = Analyzer::create(analysis);
+    if (!analyzer) return analyzer.error();
+    uint64_t frameIndex = 0;
+
+    // Moves the lens to @p commanded, lets it settle, measures one frame.
+    const auto measureAt = [&](double commanded, int pass) -> Status {
+        if (auto s = control->set(commanded); !s) return s.error();
+        for (int i = 0; i <= settle; ++i) {
+            auto frame = source.next();
+            // A damaged frame is not a measurement of this position: take the next one.
+            while (!frame && frame.error().kind == ErrorKind::Corrupt)
+                frame = source.next();
+            if (!frame) {
+                Error e = frame.error();
+                if (e.kind == ErrorKind::EndOfStream)
+                    e.message = name + " ended during the sweep, after " +
+                                std::to_string(result.steps.size()) + " position(s)";
+                return e;
+            }
+            const uint64_t index = frameIndex++;
+            if (i < settle) continue;
+            auto a = (*analyzer)->analyze(*frame, index);
+            if (!a) return a.error();
+            SweepStep step;
+            step.pass = pass;
+            step.commanded = commanded;
+            step.lens = positionOf(*frame, *control, commanded, range.unit);
+            step.analysis = std::move(*a);
+            if (onStep)
+                if (auto s = onStep(step); !s) return s;
+            result.steps.push_back(std::move(step));
+        }
+        return {};
+    };
+
+    const auto positionsBetween = [](double a, double b, int n, bool inclusive) {
+        std::vector<double> out;
+        for (int i = 0; i < n; ++i) {
+            const double t =
+                inclusive ? (n == 1 ? 0.0 : double(i) / (n - 1)) : double(i + 1) / (n + 1);
+            out.push_back(a + (b - a) * t);
+        }
+        return out;
+    };
+
+    for (double p : positionsBetween(from, to, options.steps, true))
+        if (auto s = measureAt(p, 0); !s) return s.error();
+
+    const auto curveOf = [&](const std::function<double(const FrameAnalysis&)>& score,
+                             std::vector<double>& x, std::vector<double>& y) {
+        std::vector<std::pair<double, double>> pts;
+        for (const SweepStep& s : result.steps)
+            pts.emplace_back(s.lens.value, score(s.analysis));
+        sortedCurve(std::move(pts), x, y);
+    };
+    std::vector<double> x, y;
+    const auto frameScore = [](const FrameAnalysis& a) { return a.frameSharpness; };
+
+    if (options.refineSteps > 0) {
+        curveOf(frameScore, x, y);
+        if (auto first = findFocusPeak(x, y); first && x.size() > 1) {
+            const size_t a = first->index, b = first->lastIndex;
+            const double lo = x[a > 0 ? a - 1 : 0], hi = x[std::min(b + 1, x.size() - 1)];
+            for (double p : positionsBetween(lo, hi, options.refineSteps, false))
+                if (auto s = measureAt(p, 1); !s) return s.error();
+        }
+    }
+
+    curveOf(frameScore, x, y);
+    result.best = findFocusPeak(x, y);
+    if (result.best && range.unit == "dioptre") result.bestDioptres = result.best->position;
+    const size_t regions = result.steps.empty() ? 0 : result.steps.front().analysis.regions.size();
+    for (size_t r = 0; r < regions; ++r) {
+        curveOf(
+            [r](const FrameAnalysis& a) {
+                return r < a.regions.size() ? a.regions[r].sharpness : 0.0;
+            },
+            x, y);
+        result.regionBest.push_back(findFocusPeak(x, y));
+    }
+    if (options.moveToBest && result.best) {
+        if (auto s = control->set(result.best->position); !s) return s.error();
+    }
+    if (auto p = control->get()) result.finalPosition = *p;
+    return result;
+}
+
+}  // namespace infocus
