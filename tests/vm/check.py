@@ -113,6 +113,24 @@ def main():
          "; ".join(f"{x}: {said[x].strip()[:160]}" for x in said) +
          f"; devices lists {listed}; libcamera: {lc.strip()[:200]}")
 
+    # f. focus sweep, judged by what part a's devices listed: a device with a focus control is
+    # swept (three positions measured), one without is refused with exit 1 and the reason
+    for tag, cams, name in (("f_v4l2", vivid, "vivid/V4L2"), ("f_lc", vimc, "vimc/libcamera")):
+        has_focus = bool(cams) and cams[0].get("focus") is not None
+        out, err = text(t, tag, "out"), text(t, tag, "err")
+        if has_focus:
+            try:
+                summary = json.loads(out)
+            except ValueError:
+                summary = {}
+            ok = rc(t, tag) == 0 and len(summary.get("steps", [])) == 3
+            detail = f"focus control listed; swept {len(summary.get('steps', []))} positions, " \
+                     f"best {summary.get('best')}"
+        else:
+            ok = rc(t, tag) == 1 and "has no focus control" in err and not out.strip()
+            detail = f"no focus control listed; exit {rc(t, tag)}: {err.strip()[:200]}"
+        part(f"f sweep {name}", ok, detail)
+
     # d. faults
     import re
     rec = text(t, "d_faults", "out")

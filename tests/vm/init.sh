@@ -67,6 +67,10 @@ done
 v4l2-ctl -d "$cap" -c transfer_function=0
 run e_lc infocus analyze libcamera:0 --frames 1 --grid 2x2 --transfer auto
 
+# f. focus sweep: a sweep where the camera has a focus control, a refusal where it has none
+run f_v4l2 infocus sweep "v4l2:$cap,size=320x180" --steps 3 --refine 0 --grid 2x2 --no-blur --json
+run f_lc infocus sweep libcamera:0 --steps 3 --refine 0 --grid 2x2 --no-blur --json
+
 # c. loopback: frames of known blur through vivid's output node into its capture node
 v4l2-ctl -d "$cap" -i 2 -c loop_video=1 --set-fmt-video=width=720,height=480,pixelformat=YUYV,field=interlaced
 v4l2-ctl -d "$out" -o 0 --set-fmt-video-out=width=720,height=480,pixelformat=YUYV,field=interlaced
