@@ -39,6 +39,25 @@ struct FocusPeak {
 std::optional<FocusPeak> findFocusPeak(std::span<const double> positions,
                                        std::span<const double> scores);
 
+/// A "V" fitted to a region's blur widths over the lens positions. The lecture's blur is linear
+/// in dioptric defocus, ΔX_i = A·z_s·|1/u − 1/z|, so over a lens in dioptres the disc diameter is
+/// b = k·|p − p0| (the blur engine has removed the pixel's own floor): p0 is where the region is
+/// in focus by its blur, k = A·z_s / pixel pitch. z_s changes with the focus by f²·Δp, so the
+/// two arms differ in slope by that share (a few per cent over a sweep of a few dioptres).
+struct BlurVFit {
+    double position = 0.0;        ///< p0, where the fitted blur vanishes (native unit)
+    double slopePxPerUnit = 0.0;  ///< k, disc diameter in pixels per unit of position
+    double rmsPx = 0.0;           ///< RMS of the weighted residuals, pixels
+    int points = 0;               ///< readings used
+};
+
+/// Fits b = k·|p − p0| to blur widths @p widthsPx at @p positions, weighted by @p weights
+/// (confidence, ≥ 0), by least squares: k in closed form for each p0, p0 searched over the
+/// positions' span. nullopt with fewer than two weighted readings on each side of p0 (a ramp
+/// does not say where its V would bottom out), mismatched lengths, or values not finite.
+std::optional<BlurVFit> fitBlurV(std::span<const double> positions,
+                                 std::span<const double> widthsPx, std::span<const double> weights);
+
 /// How to sweep.
 struct SweepOptions {
     /// First and last position in the control's native unit; default: its whole range.
@@ -75,6 +94,9 @@ struct SweepResult {
     std::optional<double> bestDioptres;
     /// The peak of each region's sharpness, in the order of FrameAnalysis::regions.
     std::vector<std::optional<FocusPeak>> regionBest;
+    /// The V of each region's blur widths (fitBlurV, weighted by confidence), in the order of
+    /// FrameAnalysis::regions; empty when blur was not measured.
+    std::vector<std::optional<BlurVFit>> regionBlurFit;
     /// Where the lens was left (the control's reading after the last move).
     std::optional<LensPosition> finalPosition;
 };

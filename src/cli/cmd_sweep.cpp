@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -144,6 +145,19 @@ Json summaryJson(const std::string& source, const SweepResult& r, int settle) {
         Json e = {{"col", reg.col},  {"row", reg.row},  {"x", reg.rect.x},
                   {"y", reg.rect.y}, {"w", reg.rect.w}, {"h", reg.rect.h}};
         e["best"] = peakJson(r.regionBest[i], unit);
+        const std::optional<BlurVFit> fit =
+            i < r.regionBlurFit.size() ? r.regionBlurFit[i] : std::nullopt;
+        if (fit) {
+            const auto d = dioptresOf(fit->position, unit);
+            e["blur_fit"] = {{"position", fit->position},
+                             {"dioptres", d ? Json(*d) : Json(nullptr)},
+                             {"in_focus_distance_m", inFocusJson(d)},
+                             {"slope_px_per_unit", fit->slopePxPerUnit},
+                             {"rms_px", fit->rmsPx},
+                             {"points", fit->points}};
+        } else {
+            e["blur_fit"] = nullptr;
+        }
         regions.push_back(e);
     }
     j["metric"] = first ? first->metric : std::string();
@@ -155,33 +169,33 @@ Json summaryJson(const std::string& source, const SweepResult& r, int settle) {
     return j;
 }
 
-// The regions' best positions as a grid, for people: distances in focus for a dioptre control.
-void printRegionGrid(const SweepResult& r) {
+// One line per row of regions, each cell from @p cell (empty: "-").
+void printRegionGrid(const SweepResult& r, const std::function<std::string(size_t region)>& cell) {
     if (r.steps.empty()) return;
     const FrameAnalysis& a = r.steps.front().analysis;
     int cols = 0, rows = 0;
     for (const RegionResult& reg : a.regions)
         cols = std::max(cols, reg.col + 1), rows = std::max(rows, reg.row + 1);
-    const bool dpt = r.range.unit == "dioptre";
-    std::printf("sharpest position of each region (%s; * at the sweep's end):\n",
-                dpt ? "distance in focus" : r.range.unit.c_str());
     for (int row = 0; row < rows; ++row) {
         std::string line;
         for (int col = 0; col < cols; ++col) {
-            std::string cell = "-";
-            for (size_t i = 0; i < a.regions.size() && i < r.regionBest.size(); ++i) {
-                if (a.regions[i].col != col || a.regions[i].row != row || !r.regionBest[i])
-                    continue;
-                const FocusPeak& p = *r.regionBest[i];
-                cell = dpt ? inFocusText(p.position) : positionText(p.position, r.range.unit);
-                if (p.atEnd) cell += "*";
-            }
+            std::string text = "-";
+            for (size_t i = 0; i < a.regions.size(); ++i)
+                if (a.regions[i].col == col && a.regions[i].row == row) {
+                    const std::string c = cell(i);
+                    if (!c.empty()) text = c;
+                }
             char buf[32];
-            std::snprintf(buf, sizeof buf, "%12s", cell.c_str());
+            std::snprintf(buf, sizeof buf, "%12s", text.c_str());
             line += buf;
         }
         std::printf("%s\n", line.c_str());
     }
+}
+
+// A position for a grid cell: the distance in focus for a dioptre control.
+std::string cellText(double position, const std::string& unit) {
+    return unit == "dioptre" ? inFocusText(position) : positionText(position, unit);
 }
 
 int runSweepCommand(const SweepArgs& args) {
@@ -318,7 +332,36 @@ int runSweepCommand(const SweepArgs& args) {
         ", frame sharpness %.6g, %.0f %% above the sweep's lowest; %s\n", best.score,
         100.0 * best.prominence,
         options.moveToBest ? "the lens is left there" : "the lens stays at the last position");
-    printRegionGrid(*result);
+    const std::string& unit = range.unit;
+    std::printf("sharpest position of each region (%s; * at the sweep's end):\n",
+                unit == "dioptre" ? "distance in focus" : unit.c_str());
+    printRegionGrid(*result, [&](size_t i) -> std::string {
+        if (i >= result->regionBest.size() || !result->regionBest[i]) return {};
+        const FocusPeak& p = *result->regionBest[i];
+        return cellText(p.position, unit) + (p.atEnd ? "*" : "");
+    });
+    std::vector<double> slopes, rms;
+    for (const auto& f : result->regionBlurFit)
+        if (f) slopes.push_back(f->slopePxPerUnit), rms.push_back(f->rmsPx);
+    if (!slopes.empty()) {
+        std::printf(
+            "where each region's blur width vanishes (a V fitted to its blur widths, "
+            "%s):\n",
+            unit == "dioptre" ? "distance in focus" : unit.c_str());
+        printRegionGrid(*result, [&](size_t i) -> std::string {
+            if (i >= result->regionBlurFit.size() || !result->regionBlurFit[i]) return {};
+            return cellText(result->regionBlurFit[i]->position, unit);
+        });
+        const auto median = [](std::vector<double> v) {
+            std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+            return v[v.size() / 2];
+        };
+        std::printf(
+            "blur widths grow %.3g px per %s of defocus (median of %zu regions; RMS of "
+            "the fits %.2g px)\n",
+            median(slopes), unit == "dioptre" ? "dioptre" : unit.c_str(), slopes.size(),
+            median(rms));
+    }
     std::fflush(stdout);
     if (best.atEnd)
         std::fprintf(stderr,

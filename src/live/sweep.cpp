@@ -4,6 +4,7 @@
 #include "infocus/sweep.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -111,6 +112,62 @@ std::optional<FocusPeak> findFocusPeak(std::span<const double> positions,
     // against rounding.
     if (v) peak.position = std::clamp(*v, x0, x2);
     return peak;
+}
+
+std::optional<BlurVFit> fitBlurV(std::span<const double> positions,
+                                 std::span<const double> widthsPx,
+                                 std::span<const double> weights) {
+    const size_t n = positions.size();
+    if (widthsPx.size() != n || weights.size() != n) return std::nullopt;
+    std::vector<std::array<double, 3>> pts;  // position, width, weight
+    for (size_t i = 0; i < n; ++i) {
+        if (!std::isfinite(positions[i]) || !std::isfinite(widthsPx[i]) ||
+            !std::isfinite(weights[i]))
+            return std::nullopt;
+        if (weights[i] > 0) pts.push_back({positions[i], widthsPx[i], weights[i]});
+    }
+    if (pts.size() < 4) return std::nullopt;
+    std::sort(pts.begin(), pts.end());
+    // For a given p0, k = Σ w·b·d / Σ w·d² (d = |p − p0|) and the cost is Σ w·b² − k·Σ w·b·d.
+    const auto cost = [&](double p0, double& k) {
+        double wbd = 0, wdd = 0, wbb = 0;
+        for (const auto& [p, b, w] : pts) {
+            const double d = std::abs(p - p0);
+            wbd += w * b * d;
+            wdd += w * d * d;
+            wbb += w * b * b;
+        }
+        k = wdd > 0 ? std::max(0.0, wbd / wdd) : 0.0;
+        return wbb - k * wbd;
+    };
+    // The cost is piecewise smooth in p0: a fine grid over the span, then a finer one about its
+    // best point.
+    const double lo = pts.front()[0], hi = pts.back()[0];
+    double best = lo, bestCost = HUGE_VAL, k = 0;
+    constexpr int kGrid = 1000;
+    for (int i = 0; i <= kGrid; ++i) {
+        const double p0 = lo + (hi - lo) * i / kGrid;
+        if (const double c = cost(p0, k); c < bestCost) bestCost = c, best = p0;
+    }
+    const double cell = (hi - lo) / kGrid;
+    for (int i = -100; i <= 100; ++i) {
+        const double p0 = std::clamp(best + cell * i / 100, lo, hi);
+        if (const double c = cost(p0, k); c < bestCost) bestCost = c, best = p0;
+    }
+    int below = 0, above = 0;
+    double wsum = 0;
+    for (const auto& [p, b, w] : pts) {
+        below += p < best;
+        above += p > best;
+        wsum += w;
+    }
+    if (below < 2 || above < 2) return std::nullopt;
+    BlurVFit fit;
+    fit.position = best;
+    cost(best, fit.slopePxPerUnit);
+    fit.rmsPx = std::sqrt(std::max(0.0, bestCost) / wsum);
+    fit.points = static_cast<int>(pts.size());
+    return fit;
 }
 
 Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
@@ -230,6 +287,20 @@ Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
             },
             x, y);
         result.regionBest.push_back(findFocusPeak(x, y));
+    }
+    if (options.analysis.measureBlur) {
+        for (size_t r = 0; r < regions; ++r) {
+            std::vector<double> p, b, w;
+            for (const SweepStep& s : result.steps) {
+                if (r >= s.analysis.regions.size()) continue;
+                const RegionResult& reg = s.analysis.regions[r];
+                if (!reg.blurWidthPx) continue;
+                p.push_back(s.lens.value);
+                b.push_back(*reg.blurWidthPx);
+                w.push_back(reg.confidence);
+            }
+            result.regionBlurFit.push_back(fitBlurV(p, b, w));
+        }
     }
     if (options.moveToBest && result.best) {
         if (auto s = control->set(result.best->position); !s) return s.error();

@@ -41,6 +41,9 @@ assert all(l["lens_position"]["unit"] == "dioptre" and len(l["regions"]) == 12 f
 assert all(r["blur_width_px"] is None or r["blur_width_px"] >= 0 for l in lines for r in l["regions"])
 s = json.load(open(sys.argv[1] + "/summary.json"))
 assert [st["frame"] for st in s["steps"]] == [l["frame"] for l in lines], "steps and lines differ"
+fits = [r["blur_fit"] for r in s["regions"]]
+assert len(fits) == 12 and any(fits), fits
+assert all(f is None or (f["slope_px_per_unit"] > 0 and f["points"] >= 4) for f in fits), fits
 PY
 # A second sweep into the same directory would overwrite the first: refused.
 out=$("$bin" sweep "$sim" --steps 3 -o "$tmp/run" 2>&1)
