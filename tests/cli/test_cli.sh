@@ -1,23 +1,7 @@
 #!/usr/bin/env bash
 # The command line's contract: help and version succeed, usage errors exit 2 with a message.
 # Usage: test_cli.sh PATH_TO_INFOCUS
-set -u
-bin=${1:?path to infocus}
-pass=0 fail=0
-expect() { # expect STATUS PATTERN -- ARGS...
-	local want=$1 pat=$2
-	shift 3
-	local out st
-	out=$("$bin" "$@" 2>&1)
-	st=$?
-	if [[ $st -eq $want ]] && grep -qE -- "$pat" <<<"$out"; then
-		pass=$((pass + 1))
-	else
-		echo "FAIL: infocus $* -> status $st (want $want), output:"
-		echo "$out" | head -5
-		fail=$((fail + 1))
-	fi
-}
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
 expect 0 'Usage|usage' -- --help
 expect 0 '^infocus [0-9]+\.[0-9]+' -- --version
 expect 2 'subcommand' --
@@ -38,10 +22,9 @@ full() { # full PATTERN -- ARGS...
 	err=$("$bin" "$@" 2>&1 >/dev/full)
 	st=$?
 	if [[ $st -eq 1 ]] && grep -qE -- "$pat" <<<"$err"; then
-		pass=$((pass + 1))
+		ok
 	else
-		echo "FAIL: infocus $* >/dev/full -> status $st (want 1): $err"
-		fail=$((fail + 1))
+		bad "infocus $* >/dev/full -> status $st (want 1): $err"
 	fi
 }
 full 'infocus dof: writing to standard output failed' -- dof --lens rpi-cam3 --focus 1m

@@ -2,13 +2,7 @@
 # `infocus sweep` end to end on the simulated camera: the best focus of a plane at a known
 # distance, the files of -o, the lens left at best focus, and refusals with their exit status.
 # Usage: test_sweep_cli.sh PATH_TO_INFOCUS
-set -u
-bin=${1:?path to infocus}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0 fail=0
-ok() { pass=$((pass + 1)); }
-bad() { echo "FAIL: $*"; fail=$((fail + 1)); }
+source "$(dirname "${BASH_SOURCE[0]}")/../cli/harness.sh"
 # An 8 mm f/2 lens at 640 px blurs 3.2 px a dioptre; the plane is at 1.25 m (0.8 dpt).
 sim='sim:distance=1.25m,size=640x360,focal=8mm,fnumber=2,pace=fast'
 
@@ -50,16 +44,6 @@ out=$("$bin" sweep "$sim" --steps 3 -o "$tmp/run" 2>&1)
 st=$?
 if [[ $st -eq 2 ]] && grep -q 'already holds a sweep' <<<"$out"; then ok; else bad "reused -o: $st $out"; fi
 
-expect() { # expect STATUS PATTERN -- ARGS...
-	local want=$1 pat=$2
-	shift 3
-	local out st
-	out=$("$bin" "$@" 2>&1)
-	st=$?
-	if [[ $st -eq $want ]] && grep -qE -- "$pat" <<<"$out"; then ok; else
-		bad "infocus $* -> status $st (want $want): $(head -3 <<<"$out")"
-	fi
-}
 # A bare number is ambiguous for a lens in dioptres (metres or dioptres?).
 expect 2 'give a unit|unit' -- sweep "$sim" --from 2
 expect 2 'outside the lens range.*0 to 10 dioptre' -- sweep "$sim" --from 20dpt
