@@ -31,6 +31,18 @@ std::unique_ptr<FrameSource> openStarted(const std::string& text) {
     return std::move(*s);
 }
 
+// A sweep of @p steps positions from @p from to @p to, measuring a @p cols × @p rows grid.
+SweepOptions sweepOver(double from, double to, int steps, int cols, int rows, bool blur = false) {
+    SweepOptions o;
+    o.from = from;
+    o.to = to;
+    o.steps = steps;
+    o.analysis.cols = cols;
+    o.analysis.rows = rows;
+    o.analysis.measureBlur = blur;
+    return o;
+}
+
 // A source of identical frames with a lens control that only counts, for the sweep's own rules.
 class CountingSource final : public FrameSource {
 public:
@@ -169,13 +181,7 @@ TEST_CASE("a sweep finds each region's depth: planes at steps and a tilted plane
     const std::string lens = ",focal=16mm,fnumber=2.8,pace=fast";
     SECTION("four planes, 0.5 to 4 m") {
         auto src = openStarted("sim:scene=steps,distances=0.5m:1m:2m:4m" + lens);
-        SweepOptions o;
-        o.from = 0.0;
-        o.to = 3.0;
-        o.steps = 31;
-        o.analysis.cols = 16;
-        o.analysis.rows = 2;
-        o.analysis.measureBlur = false;
+        SweepOptions o = sweepOver(0.0, 3.0, 31, 16, 2);
         auto r = runSweep(*src, o);
         REQUIRE(r);
         REQUIRE(r->regionBest.size() == 32u);
@@ -200,13 +206,7 @@ TEST_CASE("a sweep finds each region's depth: planes at steps and a tilted plane
         auto truth = SimRenderer::create(*cfg);
         REQUIRE(truth);
         auto src = openStarted(text);
-        SweepOptions o;
-        o.from = 0.2;
-        o.to = 3.0;
-        o.steps = 29;
-        o.analysis.cols = 4;
-        o.analysis.rows = 4;
-        o.analysis.measureBlur = false;
+        SweepOptions o = sweepOver(0.2, 3.0, 29, 4, 4);
         auto r = runSweep(*src, o);
         REQUIRE(r);
         double lastRow = -1;
@@ -340,12 +340,7 @@ TEST_CASE("a sweep's blur widths grow as the thin lens says", "[sweep][sim]") {
     const double pitch = 1.4e-6 * 4608 / 1280;
     const double k = A * zs / pitch;  // 18.43 px a dioptre
     auto src = openStarted("sim:distance=1m,focal=16mm,fnumber=2.8,pace=fast");
-    SweepOptions o;
-    o.from = 0.2;
-    o.to = 3.0;
-    o.steps = 15;
-    o.analysis.cols = 4;
-    o.analysis.rows = 3;
+    SweepOptions o = sweepOver(0.2, 3.0, 15, 4, 3, true);
     auto r = runSweep(*src, o);
     REQUIRE(r);
     REQUIRE(r->regionBlurFit.size() == 12u);
