@@ -14,6 +14,9 @@ namespace infocus {
 
 namespace {
 
+// Damaged frames in a row after which a sweep gives up on the source.
+constexpr int kMaxDamagedInARow = 30;
+
 // The vertex of the parabola through (x0, y0), (x1, y1), (x2, y2) with x0 < x1 < x2 and y1 the
 // largest; nullopt when the three are collinear. Spacing need not be even (a control rounds to
 // its step).
@@ -217,9 +220,19 @@ Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
         if (auto s = control->set(commanded); !s) return s.error();
         for (int i = 0; i <= settle; ++i) {
             auto frame = source.next();
-            // A damaged frame is not a measurement of this position: take the next one.
-            while (!frame && frame.error().kind == ErrorKind::Corrupt)
+            // A damaged frame is not a measurement of this position: take the next one, but
+            // not forever from a camera that delivers nothing else.
+            for (int damaged = 1; !frame && frame.error().kind == ErrorKind::Corrupt; ++damaged) {
+                if (damaged == kMaxDamagedInARow) {
+                    Error e = frame.error();
+                    e.message =
+                        name + " delivered " + std::to_string(damaged) +
+                        " damaged frames in a row during the sweep (the last: " + e.message +
+                        "); check the camera's connection and format";
+                    return e;
+                }
                 frame = source.next();
+            }
             if (!frame) {
                 Error e = frame.error();
                 if (e.kind == ErrorKind::EndOfStream)

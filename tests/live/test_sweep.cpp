@@ -56,6 +56,10 @@ public:
     Status start() override { return {}; }
     Result<Frame> next() override {
         if (delivered_ >= frames_) return makeError(ErrorKind::EndOfStream, "no more frames");
+        if (damaged) {
+            ++delivered_;
+            return makeError(ErrorKind::Corrupt, "torn buffer");
+        }
         auto f = allocateFrame(PixelFormat::GREY, Size{64, 48});
         REQUIRE(f);
         for (int y = 0; y < 48; ++y)
@@ -69,6 +73,7 @@ public:
     SourceStats stats() const override { return {}; }
     FocusControl* focusControl() override { return withControl_ ? &control_ : nullptr; }
     uint64_t delivered() const { return delivered_; }
+    bool damaged = false;  ///< every frame reported damaged
 
     struct Control final : FocusControl {
         FocusRange range() const override { return {0, 100, 1, 50, "v4l2"}; }
@@ -306,6 +311,15 @@ TEST_CASE("a sweep refuses what it cannot do, and keeps what it measured", "[swe
     CHECK(r.error().kind == ErrorKind::EndOfStream);
     CHECK_THAT(r.error().message, Catch::Contains("after 2 position(s)"));
     CHECK(seen == 2);
+
+    // A camera that delivers only damaged frames ends the sweep with the reason.
+    CountingSource torn(1000);
+    torn.damaged = true;
+    r = runSweep(torn, o);
+    REQUIRE_FALSE(r);
+    CHECK(r.error().kind == ErrorKind::Corrupt);
+    CHECK_THAT(r.error().message, Catch::Contains("30 damaged frames in a row"));
+    CHECK(torn.delivered() == 30u);
 }
 
 TEST_CASE("a V fitted to blur widths finds where the blur vanishes", "[sweep]") {
