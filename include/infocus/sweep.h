@@ -9,6 +9,7 @@
 #include <functional>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "infocus/analysis.h"
@@ -90,8 +91,6 @@ struct SweepResult {
     std::vector<SweepStep> steps;  ///< in the order measured
     /// Peak of the whole-frame sharpness (FrameAnalysis::frameSharpness) over every step.
     std::optional<FocusPeak> best;
-    /// best's position in dioptres where the control's unit is dioptres.
-    std::optional<double> bestDioptres;
     /// The peak of each region's sharpness, in the order of FrameAnalysis::regions.
     std::vector<std::optional<FocusPeak>> regionBest;
     /// The V of each region's blur widths (fitBlurV, weighted by confidence), in the order of
@@ -100,6 +99,9 @@ struct SweepResult {
     /// Where the lens was left (the control's reading after the last move).
     std::optional<LensPosition> finalPosition;
 };
+
+/// The error for a sweep of @p source, which has no focus control (ErrorKind::Unsupported).
+Error noFocusControlError(std::string_view source);
 
 /// Receives each step as it is measured (for progress); a failed Status stops the sweep.
 using SweepStepSink = std::function<Status(const SweepStep&)>;

@@ -52,9 +52,8 @@ Result<double> parsePosition(const std::string& text, const std::string& option,
         if (!m) return m.error();
         return std::isinf(*m) ? 0.0 : 1.0 / *m;
     }
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v)) {
+    double v = 0;
+    if (!readsWhole(text, v) || !std::isfinite(v)) {
         char buf[64];
         std::snprintf(buf, sizeof buf, "%g to %g", range.min, range.max);
         return makeError(ErrorKind::Usage, option + " " + text + ": the lens control of " + source +
@@ -86,14 +85,19 @@ Json inFocusJson(std::optional<double> dioptres) {
     return *dioptres > 0 ? Json(1.0 / *dioptres) : Json(nullptr);
 }
 
+// The upper median of @p v (not empty).
+double median(std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+}
+
 // Median blur width (disc diameter) over the regions that have one, and how many do.
 std::pair<std::optional<double>, int> medianBlur(const FrameAnalysis& a) {
     std::vector<double> w;
     for (const RegionResult& r : a.regions)
         if (r.blurWidthPx) w.push_back(*r.blurWidthPx);
     if (w.empty()) return {std::nullopt, 0};
-    std::nth_element(w.begin(), w.begin() + w.size() / 2, w.end());
-    return {w[w.size() / 2], static_cast<int>(w.size())};
+    return {median(w), static_cast<int>(w.size())};
 }
 
 std::optional<double> dioptresOf(double position, const std::string& unit) {
@@ -176,20 +180,14 @@ void printRegionGrid(const SweepResult& r, const std::function<std::string(size_
     int cols = 0, rows = 0;
     for (const RegionResult& reg : a.regions)
         cols = std::max(cols, reg.col + 1), rows = std::max(rows, reg.row + 1);
+    std::vector<std::string> cells(static_cast<size_t>(cols) * rows, "-");
+    for (size_t i = 0; i < a.regions.size(); ++i)
+        if (std::string c = cell(i); !c.empty())
+            cells[static_cast<size_t>(a.regions[i].row) * cols + a.regions[i].col] = std::move(c);
     for (int row = 0; row < rows; ++row) {
-        std::string line;
-        for (int col = 0; col < cols; ++col) {
-            std::string text = "-";
-            for (size_t i = 0; i < a.regions.size(); ++i)
-                if (a.regions[i].col == col && a.regions[i].row == row) {
-                    const std::string c = cell(i);
-                    if (!c.empty()) text = c;
-                }
-            char buf[32];
-            std::snprintf(buf, sizeof buf, "%12s", text.c_str());
-            line += buf;
-        }
-        std::printf("%s\n", line.c_str());
+        for (int col = 0; col < cols; ++col)
+            std::printf("%12s", cells[static_cast<size_t>(row) * cols + col].c_str());
+        std::printf("\n");
     }
 }
 
@@ -239,13 +237,7 @@ int runSweepCommand(const SweepArgs& args) {
     if (!source) return reportError(cmd, source.error());
     FrameSource& src = **source;
     FocusControl* control = src.focusControl();
-    if (!control)
-        return reportError(
-            cmd, makeError(ErrorKind::Unsupported,
-                           args.source +
-                               " has no focus control: its lens cannot be moved, and a sweep "
-                               "needs a motorised lens ('infocus devices' lists the cameras that "
-                               "have one; sim: has one)"));
+    if (!control) return reportError(cmd, noFocusControlError(args.source));
     const FocusRange range = control->range();
     for (auto [text, slot] : {std::pair{&args.from, &options.from}, {&args.to, &options.to}}) {
         if (text->empty()) continue;
@@ -326,8 +318,8 @@ int runSweepCommand(const SweepArgs& args) {
     }
     const FocusPeak& best = *result->best;
     std::printf("best focus: %s", positionText(best.position, range.unit).c_str());
-    if (result->bestDioptres)
-        std::printf(" (in focus at %s from the lens)", inFocusText(*result->bestDioptres).c_str());
+    if (const auto d = dioptresOf(best.position, range.unit))
+        std::printf(" (in focus at %s from the lens)", inFocusText(*d).c_str());
     std::printf(
         ", frame sharpness %.6g, %.0f %% above the sweep's lowest; %s\n", best.score,
         100.0 * best.prominence,
@@ -352,10 +344,6 @@ int runSweepCommand(const SweepArgs& args) {
             if (i >= result->regionBlurFit.size() || !result->regionBlurFit[i]) return {};
             return cellText(result->regionBlurFit[i]->position, unit);
         });
-        const auto median = [](std::vector<double> v) {
-            std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-            return v[v.size() / 2];
-        };
         std::printf(
             "blur widths grow %.3g px per %s of defocus (median of %zu regions; RMS of "
             "the fits %.2g px)\n",

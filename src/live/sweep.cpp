@@ -173,16 +173,19 @@ std::optional<BlurVFit> fitBlurV(std::span<const double> positions,
     return fit;
 }
 
+Error noFocusControlError(std::string_view source) {
+    return makeError(ErrorKind::Unsupported,
+                     std::string(source) +
+                         " has no focus control: its lens cannot be moved, and a sweep needs a "
+                         "motorised lens ('infocus devices' lists the cameras that have one; "
+                         "sim: has one)");
+}
+
 Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
                              const SweepStepSink& onStep) {
     FocusControl* control = source.focusControl();
     const std::string name = source.info().sourceString;
-    if (!control)
-        return makeError(ErrorKind::Unsupported,
-                         name +
-                             " has no focus control: its lens cannot be moved; a sweep needs a "
-                             "motorised lens ('infocus devices' lists the cameras that have one, "
-                             "and sim: has one)");
+    if (!control) return noFocusControlError(name);
     SweepResult result;
     result.range = control->range();
     const FocusRange& range = result.range;
@@ -291,7 +294,6 @@ Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
 
     curveOf(frameScore, x, y);
     result.best = findFocusPeak(x, y);
-    if (result.best && range.unit == "dioptre") result.bestDioptres = result.best->position;
     const size_t regions = result.steps.empty() ? 0 : result.steps.front().analysis.regions.size();
     for (size_t r = 0; r < regions; ++r) {
         curveOf(
