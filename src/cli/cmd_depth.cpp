@@ -14,6 +14,7 @@
 
 #include "commands.h"
 #include "infocus/analysis.h"
+#include "infocus/depth_map.h"
 #include "infocus/plane_fit.h"
 #include "lens_options.h"
 #include "parse.h"
@@ -78,12 +79,6 @@ Result<FrameLens> lensFor(const LensValues& v, const FrameAnalysis& a) {
     return fl;
 }
 
-struct RegionDepth {
-    const RegionResult* region = nullptr;
-    std::optional<optics::DepthRoots> roots;
-    int side = 0;  // sign of the fitted signed blur; 0 when unknown
-};
-
 std::string lengthOrDash(const std::optional<double>& v) {
     if (!v) return "-";
     return formatDistance(*v);
@@ -92,34 +87,12 @@ std::string lengthOrDash(const std::optional<double>& v) {
 Status processFrame(const FrameAnalysis& a, const DepthArgs& args, const LensValues& values) {
     auto fl = lensFor(values, a);
     if (!fl) return fl.error();
-    std::vector<RegionDepth> depths;
-    std::vector<optics::BlurSample> samples;
-    for (const auto& r : a.regions) {
-        RegionDepth d;
-        d.region = &r;
-        if (r.blurWidthPx && r.confidence >= args.minConfidence) {
-            d.roots = optics::depthFromBlur(fl->lens, fl->focus, *r.blurWidthPx * fl->pitch,
-                                            args.blurFloorPx * fl->pitch);
-            samples.push_back({r.rect.x + 0.5 * r.rect.w, r.rect.y + 0.5 * r.rect.h, *r.blurWidthPx,
-                               r.confidence});
-        }
-        depths.push_back(d);
-    }
-    optics::PlaneFitOptions fitOptions;
-    fitOptions.blurFloor = args.blurFloorPx;
-    const auto fit = optics::fitBlurPlane(samples, a.width, a.height, fitOptions);
-    std::optional<std::array<optics::ScenePlane, 2>> planes;
-    if (fit) {
-        planes = optics::scenePlanes(
-            *fit, {fl->lens, fl->focus, fl->pitch, 0.5 * a.width, 0.5 * a.height});
-        for (auto& d : depths)
-            if (d.roots) {
-                const double s = fit->signedAt(d.region->rect.x + 0.5 * d.region->rect.w,
-                                               d.region->rect.y + 0.5 * d.region->rect.h);
-                d.side = s > 0.0 ? 1 : (s < 0.0 ? -1 : 0);
-            }
-    }
-    const double farLimit = optics::farRootLimit(fl->lens, fl->focus).value_or(0.0);
+    const DepthMap map = depthMap(
+        a, optics::CameraGeometry{fl->lens, fl->focus, fl->pitch, 0.5 * a.width, 0.5 * a.height},
+        {args.blurFloorPx, args.minConfidence});
+    const auto& fit = map.plane;
+    const auto& planes = map.scenes;
+    const double farLimitPx = map.farRootLimitPx;
 
     if (args.json) {
         Json j;
@@ -132,18 +105,19 @@ Status processFrame(const FrameAnalysis& a, const DepthArgs& args, const LensVal
         j["f_number"] = fl->lens.fNumber;
         j["pixel_pitch_um"] = fl->pitch * 1e6;
         j["blur_floor_px"] = args.blurFloorPx;
-        j["far_root_limit_px"] = farLimit / fl->pitch;
+        j["far_root_limit_px"] = farLimitPx;
         Json regions = Json::array();
-        for (const auto& d : depths) {
+        for (const auto& d : map.regions) {
+            const RegionResult& r = a.regions[d.region];
             Json o;
-            o["col"] = d.region->col;
-            o["row"] = d.region->row;
-            o["x"] = d.region->rect.x;
-            o["y"] = d.region->rect.y;
-            o["w"] = d.region->rect.w;
-            o["h"] = d.region->rect.h;
-            o["blur_width_px"] = metresOrNull(d.region->blurWidthPx);
-            o["confidence"] = d.region->confidence;
+            o["col"] = r.col;
+            o["row"] = r.row;
+            o["x"] = r.rect.x;
+            o["y"] = r.rect.y;
+            o["w"] = r.rect.w;
+            o["h"] = r.rect.h;
+            o["blur_width_px"] = metresOrNull(r.blurWidthPx);
+            o["confidence"] = r.confidence;
             if (d.roots) {
                 o["defocus_px"] = d.roots->defocusBlur / fl->pitch;
                 o["near_m"] = d.roots->nearRoot;
@@ -197,10 +171,10 @@ Status processFrame(const FrameAnalysis& a, const DepthArgs& args, const LensVal
                 fl->lens.focalLength * 1e3, fl->lens.fNumber, formatDistance(fl->focus).c_str(),
                 fl->focusSource.c_str(), fl->pitch * 1e6);
     std::printf("  blur beyond %.1f px has no far root (a point at infinity blurs that much)\n\n",
-                farLimit / fl->pitch);
+                farLimitPx);
     std::printf("  col row   blur px  conf   near root     far root   side\n");
-    for (const auto& d : depths) {
-        const auto& r = *d.region;
+    for (const auto& d : map.regions) {
+        const RegionResult& r = a.regions[d.region];
         char blur[32];
         if (r.blurWidthPx)
             std::snprintf(blur, sizeof blur, "%8.2f", *r.blurWidthPx);
