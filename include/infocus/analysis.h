@@ -127,6 +127,12 @@ Status analyzeSource(std::string_view source, const AnalysisOptions& options, ui
                      const AnalysisSink& sink, const DamageSink& onDamaged = {},
                      const StartSink& onStart = {});
 
+/// Receives each analysed frame with the frame it measured (valid only during the call).
+using FrameAnalysisSink = std::function<Status(const FrameAnalysis&, const Frame&)>;
+/// analyzeSource for callers that need the pixels too (the report embeds each frame).
+Status analyzeSourceFrames(std::string_view source, const AnalysisOptions& options,
+                           uint64_t maxFrames, const FrameAnalysisSink& sink,
+                           const DamageSink& onDamaged = {}, const StartSink& onStart = {});
 /// Serialises @p a as one JSONL line (no trailing newline) with the fields of DESIGN.md.
 std::string toJsonLine(const FrameAnalysis& a);
 

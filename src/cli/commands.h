@@ -62,6 +62,7 @@ Command addDevicesCommand(CLI::App& app);
 Command addDofCommand(CLI::App& app);
 Command addDepthCommand(CLI::App& app);
 Command addRecordCommand(CLI::App& app);
+Command addReportCommand(CLI::App& app);
 Command addSweepCommand(CLI::App& app);
 
 }  // namespace infocus::cli

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "infocus/error.h"
+#include "infocus/units.h"
 
 namespace infocus::cli {
 
@@ -74,11 +75,5 @@ public:
 private:
     std::string focal_, fNumber_, focus_, pitch_, coc_, cocPx_, sensor_, lens_;
 };
-
-/// Formats a distance for people: "512.3 mm", "5.115 m", "223.2 m", "infinity".
-std::string formatDistance(double metres);
-
-/// Formats a small sensor length: "30.0 µm" / "1.40 mm".
-std::string formatSensorLength(double metres);
 
 }  // namespace infocus::cli

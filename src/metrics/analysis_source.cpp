@@ -6,9 +6,9 @@
 
 namespace infocus {
 
-Status analyzeSource(std::string_view source, const AnalysisOptions& options, uint64_t maxFrames,
-                     const AnalysisSink& sink, const DamageSink& onDamaged,
-                     const StartSink& onStart) {
+Status analyzeSourceFrames(std::string_view source, const AnalysisOptions& options,
+                           uint64_t maxFrames, const FrameAnalysisSink& sink,
+                           const DamageSink& onDamaged, const StartSink& onStart) {
     // Options are checked before the source opens: a mistyped grid must not wait on a camera.
     auto analyzer = Analyzer::create(options);
     if (!analyzer) return analyzer.error();
@@ -48,13 +48,21 @@ Status analyzeSource(std::string_view source, const AnalysisOptions& options, ui
             result = a.error();
             break;
         }
-        if (auto st = sink(*a); !st) {
+        if (auto st = sink(*a, *frame); !st) {
             result = st;
             break;
         }
     }
     s.stop();
     return result;
+}
+
+Status analyzeSource(std::string_view source, const AnalysisOptions& options, uint64_t maxFrames,
+                     const AnalysisSink& sink, const DamageSink& onDamaged,
+                     const StartSink& onStart) {
+    return analyzeSourceFrames(
+        source, options, maxFrames, [&](const FrameAnalysis& a, const Frame&) { return sink(a); },
+        onDamaged, onStart);
 }
 
 }  // namespace infocus
