@@ -23,12 +23,15 @@ namespace {
 
 std::string fmt(const char* f, ...) __attribute__((format(printf, 1, 2)));
 std::string fmt(const char* f, ...) {
-    char buf[512];
-    va_list ap;
+    va_list ap, again;
     va_start(ap, f);
-    std::vsnprintf(buf, sizeof buf, f, ap);
+    va_copy(again, ap);
+    const int n = std::vsnprintf(nullptr, 0, f, ap);
     va_end(ap);
-    return buf;
+    std::string out(n > 0 ? static_cast<size_t>(n) : 0, '\0');
+    if (n > 0) std::vsnprintf(out.data(), out.size() + 1, f, again);
+    va_end(again);
+    return out;
 }
 
 std::string escapeHtml(const std::string& s) {
