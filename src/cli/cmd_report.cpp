@@ -167,16 +167,14 @@ Command addReportCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--title", args->title, "The report's title");
     sub->footer(
-        "The report embeds each frame with its regions tinted by blur, the blur and sharpness "
-        "maps,\n"
-        "the blur against the distance from the in-focus line, and a table of every region. With "
-        "the\n"
-        "lens (--focal and --fnumber, or --lens), the pixel pitch and the focus (--focus, or the\n"
-        "frames' own lens position in dioptres) it adds distances, the depth of field and the "
-        "tilt.\n\n"
+        "The report embeds each frame with its regions tinted by blur, the blur and\n"
+        "sharpness maps, the blur against the distance from the in-focus line, and a\n"
+        "table of every region. With the lens (--focal and --fnumber, or --lens), the\n"
+        "pixel pitch and the focus (--focus, or the frames' own lens position in\n"
+        "dioptres) it adds distances, the depth of field and the tilt.\n\n"
         "Examples:\n"
-        "  infocus report sim:scene=tilted,focus=0.5m -o tilted.html --lens rpi-cam3 --pixel-pitch "
-        "5.04um\n"
+        "  infocus report sim:scene=tilted,focus=0.5m -o tilted.html \\\n"
+        "      --lens rpi-cam3 --pixel-pitch 5.04um\n"
         "  infocus report 'stack/img_*.jpg' --frames 0 -o stack.html");
     return {sub, [args] { return runReport(*args); }};
 }
