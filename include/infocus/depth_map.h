@@ -43,6 +43,10 @@ struct DepthMap {
     double farRootLimitPx = 0.0;
 };
 
+/// The distance in focus that frame @p a's lens position names, metres from the lens (∞ at
+/// 0 dioptres); empty when the frame carries no position in dioptres.
+std::optional<double> focusFromLensPosition(const FrameAnalysis& a);
+
 /// The depth map of @p a. With @p camera (lens, focus, pitch, principal point), each used
 /// region's blur gives its two depths, 1/z = 1/u ± b/(A z_s), and the plane fit gives both scene
 /// planes; without it only the in-focus line in the image is found.

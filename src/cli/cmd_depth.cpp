@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <memory>
 #include <string>
 
@@ -28,8 +27,7 @@ constexpr const char* kName = "depth";
 struct DepthArgs {
     std::string input;
     LensOptions lens;
-    double blurFloorPx = 0.0;
-    double minConfidence = 0.1;
+    DepthMapOptions depth;
     std::string grid = "16x9";
     uint64_t frames = 1;
     std::string transfer = "linear";
@@ -65,9 +63,8 @@ Result<FrameLens> lensFor(const LensValues& v, const FrameAnalysis& a) {
     if (v.focusDistance) {
         fl.focus = *v.focusDistance;
         fl.focusSource = "--focus";
-    } else if (a.lens && a.lens->dioptres) {
-        fl.focus = *a.lens->dioptres > 0.0 ? 1.0 / *a.lens->dioptres
-                                           : std::numeric_limits<double>::infinity();
+    } else if (const auto focus = focusFromLensPosition(a)) {
+        fl.focus = *focus;
         fl.focusSource = "lens position of the frame";
     } else {
         return usage("give the focus distance, e.g. --focus 0.5m or --focus 2dpt (frame " +
@@ -89,7 +86,7 @@ Status processFrame(const FrameAnalysis& a, const DepthArgs& args, const LensVal
     if (!fl) return fl.error();
     const DepthMap map = depthMap(
         a, optics::CameraGeometry{fl->lens, fl->focus, fl->pitch, 0.5 * a.width, 0.5 * a.height},
-        {args.blurFloorPx, args.minConfidence});
+        args.depth);
     const auto& fit = map.plane;
     const auto& planes = map.scenes;
     const double farLimitPx = map.farRootLimitPx;
@@ -104,7 +101,7 @@ Status processFrame(const FrameAnalysis& a, const DepthArgs& args, const LensVal
         j["focal_length_m"] = fl->lens.focalLength;
         j["f_number"] = fl->lens.fNumber;
         j["pixel_pitch_um"] = fl->pitch * 1e6;
-        j["blur_floor_px"] = args.blurFloorPx;
+        j["blur_floor_px"] = args.depth.blurFloorPx;
         j["far_root_limit_px"] = farLimitPx;
         Json regions = Json::array();
         for (const auto& d : map.regions) {
@@ -227,12 +224,8 @@ bool isJsonlFile(const std::string& input) {
 int runDepth(const DepthArgs& args) {
     auto values = args.lens.resolve();
     if (!values) return reportError(kName, values.error());
-    if (!(args.blurFloorPx >= 0.0) || !std::isfinite(args.blurFloorPx))
-        return usageError(kName,
-                          "--blur-floor must be a finite 0 or more pixels, e.g. --blur-floor 1.5");
-    // (CLI::Range lets a NaN through: no comparison with it fails.)
-    if (std::isnan(args.minConfidence))
-        return usageError(kName, "--min-confidence must be a number from 0 to 1, e.g. 0.1");
+    if (const std::string u = depthMapOptionsUsage(args.depth); !u.empty())
+        return usageError(kName, u);
     uint64_t frames = 0;
     bool warnedSharpened = false;
     const auto sink = [&](const FrameAnalysis& a) -> Status {
@@ -288,14 +281,7 @@ Command addDepthCommand(CLI::App& app) {
         "depth", "Per-region depth from blur width, the in-focus line and the tilt of the scene");
     sub->add_option("INPUT", args->input, "analyze JSONL file, - (stdin), or a SOURCE")->required();
     args->lens.add(sub, LensOptionSet{.coc = false, .pitch = true});
-    sub->add_option("--blur-floor", args->blurFloorPx,
-                    "Blur width (px) a perfectly focused region still measures; removed in "
-                    "quadrature")
-        ->capture_default_str();
-    sub->add_option("--min-confidence", args->minConfidence,
-                    "Ignore regions whose blur confidence is below this")
-        ->check(CLI::Range(0.0, 1.0))
-        ->capture_default_str();
+    addDepthMapOptions(sub, args->depth);
     sub->add_option("--grid", args->grid, "Regions as columns x rows (SOURCE input)")
         ->capture_default_str();
     sub->add_option("--frames", args->frames, "Frames to analyse (SOURCE input; 0: all)")

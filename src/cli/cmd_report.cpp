@@ -27,8 +27,7 @@ struct ReportArgs {
     std::string grid = "16x9";
     uint64_t frames = 1;
     std::string transfer = "linear";
-    double blurFloorPx = 0.0;
-    double minConfidence = 0.1;
+    DepthMapOptions depth;
 };
 
 // The report's optics from the lens options: what is missing stays empty (the report then says
@@ -72,11 +71,8 @@ int runReport(const ReportArgs& args) {
     if (!values) return reportError(kName, values.error());
     auto optics = opticsFrom(*values);
     if (!optics) return reportError(kName, optics.error());
-    if (!(args.blurFloorPx >= 0.0) || !std::isfinite(args.blurFloorPx))
-        return usageError(kName,
-                          "--blur-floor must be a finite 0 or more pixels, e.g. --blur-floor 1.5");
-    if (std::isnan(args.minConfidence))
-        return usageError(kName, "--min-confidence must be a number from 0 to 1, e.g. 0.1");
+    if (const std::string u = depthMapOptionsUsage(args.depth); !u.empty())
+        return usageError(kName, u);
     // The output's folder is checked before a camera is opened or a long stream read.
     const std::filesystem::path out(args.output);
     const std::filesystem::path dir = out.has_parent_path() ? out.parent_path() : ".";
@@ -100,7 +96,7 @@ int runReport(const ReportArgs& args) {
     ro.source = args.source;
     if (!args.title.empty()) ro.title = args.title;
     ro.optics = std::move(*optics);
-    ro.depth = {args.blurFloorPx, args.minConfidence};
+    ro.depth = args.depth;
     ReportWriter writer(std::move(ro));
     LumaConverter converter;
     bool warnedSharpened = false;
@@ -157,14 +153,7 @@ Command addReportCommand(CLI::App& app) {
     sub->add_option("--transfer", args->transfer,
                     "How grey levels encode light: linear, srgb, rec709 or auto (the source's own)")
         ->capture_default_str();
-    sub->add_option(
-           "--blur-floor", args->blurFloorPx,
-           "Blur width (px) a perfectly focused region still measures; removed in quadrature")
-        ->capture_default_str();
-    sub->add_option("--min-confidence", args->minConfidence,
-                    "Ignore regions whose blur confidence is below this")
-        ->check(CLI::Range(0.0, 1.0))
-        ->capture_default_str();
+    addDepthMapOptions(sub, args->depth);
     sub->add_option("--title", args->title, "The report's title");
     sub->footer(
         "The report embeds each frame with its regions tinted by blur, the blur and\n"

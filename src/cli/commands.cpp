@@ -18,6 +18,26 @@ std::vector<Command> registerCommands(CLI::App& app) {
     };
 }
 
+void addDepthMapOptions(CLI::App* app, DepthMapOptions& options) {
+    app->add_option("--blur-floor", options.blurFloorPx,
+                    "Blur width (px) a perfectly focused region still measures; removed in "
+                    "quadrature")
+        ->capture_default_str();
+    app->add_option("--min-confidence", options.minConfidence,
+                    "Ignore regions whose blur confidence is below this")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+}
+
+std::string depthMapOptionsUsage(const DepthMapOptions& options) {
+    if (!(options.blurFloorPx >= 0.0) || !std::isfinite(options.blurFloorPx))
+        return "--blur-floor must be a finite 0 or more pixels, e.g. --blur-floor 1.5";
+    // (CLI::Range lets a NaN through: no comparison with it fails.)
+    if (std::isnan(options.minConfidence))
+        return "--min-confidence must be a number from 0 to 1, e.g. 0.1";
+    return {};
+}
+
 int reportError(const std::string& command, const Error& error) {
     std::cerr << "infocus " << command << ": " << error.message << "\n";
     return error.kind == ErrorKind::Usage ? kExitUsage : kExitFailure;

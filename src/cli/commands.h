@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "infocus/analysis.h"
+#include "infocus/depth_map.h"
 #include "infocus/error.h"
 #include "infocus/source.h"
 
@@ -54,6 +55,13 @@ CLI::Validator frameCount(uint64_t least = 0);
 /// Checks a --seconds value: a number above @p lo and at most @p hi, with @p example in the
 /// message (CLI11's own range check prints its bounds to the last digit of DBL_MAX).
 CLI::Validator secondsIn(double lo, double hi, const std::string& example);
+
+/// Adds --blur-floor and --min-confidence, the options of the depth map (`depth`, `report`),
+/// filling @p options.
+void addDepthMapOptions(CLI::App* app, DepthMapOptions& options);
+/// What to say of depth-map options CLI11 let through (a NaN passes its range check, an
+/// infinite floor its type); empty when they are fine.
+std::string depthMapOptionsUsage(const DepthMapOptions& options);
 
 // One entry point per command file (src/cli/cmd_NAME.cpp).
 Command addAnalyzeCommand(CLI::App& app);

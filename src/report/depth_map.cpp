@@ -1,7 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "infocus/depth_map.h"
 
+#include <limits>
+
 namespace infocus {
+
+std::optional<double> focusFromLensPosition(const FrameAnalysis& a) {
+    if (!a.lens || !a.lens->dioptres) return std::nullopt;
+    return *a.lens->dioptres > 0.0 ? 1.0 / *a.lens->dioptres
+                                   : std::numeric_limits<double>::infinity();
+}
 
 DepthMap depthMap(const FrameAnalysis& a, const std::optional<optics::CameraGeometry>& camera,
                   const DepthMapOptions& options) {

@@ -155,9 +155,8 @@ struct ReportWriter::Impl {
         if (p.focusDistance) {
             focus = *p.focusDistance;
             source = p.focusSource;
-        } else if (a.lens && a.lens->dioptres) {
-            focus = *a.lens->dioptres > 0.0 ? 1.0 / *a.lens->dioptres
-                                            : std::numeric_limits<double>::infinity();
+        } else if (const auto f = focusFromLensPosition(a)) {
+            focus = *f;
             source = "lens position of the frame";
         } else {
             return std::nullopt;
@@ -207,8 +206,7 @@ const char* kStyle = R"(<style>
 body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}
 h1{font-size:1.6em}h2{border-bottom:2px solid #ddd;padding-bottom:.2em;margin-top:2em}
 table{border-collapse:collapse;font-size:.85em}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}
-th{background:#f4f4f4}td.l,th.l{text-align:left}.note{background:#f7f7f0;border-left:4px solid #cc9;padding:.5em 1em}
-.key span{display:inline-block;width:1.2em;height:.9em;margin:0 .3em 0 1em;vertical-align:middle}
+th{background:#f4f4f4}.note{background:#f7f7f0;border-left:4px solid #cc9;padding:.5em 1em}
 svg{max-width:100%;height:auto}figure{margin:1em 0}figcaption{font-size:.85em;color:#555}
 </style>)";
 
