@@ -22,8 +22,8 @@
 #include <map>
 #include <mutex>
 
+#include "drivers/common/mode_choice.h"
 #include "drivers/libcamera/libcamera_compat.h"
-#include "drivers/v4l2/mode_choice.h"
 
 namespace infocus::libcam {
 
@@ -297,6 +297,7 @@ public:
         i.format = mode_.format;
         i.size = mode_.size;
         i.fps = requestedFps_.value_or(mode_.fps);
+        i.liveCamera = true;
         i.transfer = transfer_;
         return i;
     }

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "drivers/v4l2/mode_choice.h"
+#include "drivers/common/mode_choice.h"
 #include "infocus/devices.h"
 #include "infocus/error.h"
 

@@ -11,7 +11,7 @@
 #include <mutex>
 #include <vector>
 
-#include "drivers/v4l2/mode_choice.h"
+#include "drivers/common/mode_choice.h"
 #include "drivers/v4l2/v4l2_device.h"
 
 namespace infocus::v4l2 {
@@ -169,6 +169,7 @@ public:
         i.format = mode_.format;
         i.size = mode_.size;
         i.fps = mode_.fps;
+        i.liveCamera = true;
         i.transfer = transfer_;
         return i;
     }

@@ -5,7 +5,6 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -86,6 +85,10 @@ struct AnalysisOptions {
     /// analyzeSource only: take the transfer function the source reports (SourceInfo::transfer)
     /// instead of @ref transfer, which stays for a source that reports none.
     bool transferFromSource = false;
+    /// analyzeSource only: on a live camera (SourceInfo::liveCamera) track the blur with
+    /// kLiveBlurSearchesPerFrame searches in kLiveBlurSearchBudgetS a frame, so that it keeps up
+    /// with the camera; other sources keep @ref blurSearchesPerFrame.
+    bool trackLiveCamera = false;
 };
 
 /// Analyses frames one after another, reusing its buffers and JPEG decoder. Not thread-safe
@@ -109,30 +112,6 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-/// Receives each analysed frame; a failed Status stops the analysis and is returned.
-using AnalysisSink = std::function<Status(const FrameAnalysis&)>;
-
-/// Receives each frame the source reported as damaged (ErrorKind::Corrupt) and skipped.
-using DamageSink = std::function<void(const Error&)>;
-
-struct SourceInfo;
-/// Told once the source is open, before its first frame: what the source delivers, and the options
-/// its frames are analysed with (AnalysisOptions::transferFromSource resolved).
-using StartSink = std::function<void(const SourceInfo&, const AnalysisOptions&)>;
-
-/// Opens @p source (a source string, see source.h) and analyses up to @p maxFrames frames
-/// (0: until the source ends), handing each result to @p sink in order. A damaged frame is
-/// skipped and reported to @p onDamaged (when given); the frames after it are still analysed.
-Status analyzeSource(std::string_view source, const AnalysisOptions& options, uint64_t maxFrames,
-                     const AnalysisSink& sink, const DamageSink& onDamaged = {},
-                     const StartSink& onStart = {});
-
-/// Receives each analysed frame with the frame it measured (valid only during the call).
-using FrameAnalysisSink = std::function<Status(const FrameAnalysis&, const Frame&)>;
-/// analyzeSource for callers that need the pixels too (the report embeds each frame).
-Status analyzeSourceFrames(std::string_view source, const AnalysisOptions& options,
-                           uint64_t maxFrames, const FrameAnalysisSink& sink,
-                           const DamageSink& onDamaged = {}, const StartSink& onStart = {});
 /// Serialises @p a as one JSONL line (no trailing newline) with the fields of DESIGN.md.
 std::string toJsonLine(const FrameAnalysis& a);
 

@@ -66,4 +66,17 @@ struct DeviceInfo {
 /// error; an Error only when a backend itself fails (e.g. libcamera cannot start).
 Result<std::vector<DeviceInfo>> listDevices();
 
+/// The kinds of camera this infocus can list, for help texts: "cameras (V4L2 nodes, libcamera
+/// cameras)", naming only the backends it was built with.
+std::string cameraKindsText();
+
+/// What `devices` says when it finds no camera: where it looked and what to do.
+std::string noCameraMessage();
+
+/// Why a media-controller node (DeviceInfo::mediaController) is not streamed directly.
+std::string mediaControllerNote();
+
+/// Examples of source strings for help texts: "v4l2:/dev/video0, libcamera:0, sim:..., or a path".
+std::string sourceStringExamples();
+
 }  // namespace infocus

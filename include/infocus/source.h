@@ -28,7 +28,7 @@ struct SourceSpec {
     std::map<std::string, std::string> options;
 };
 
-/// Parses a source string (see DESIGN.md "source strings"). Fails with ErrorKind::Usage on an
+/// Parses a source string (see docs/design.md, Source strings). Fails with ErrorKind::Usage on an
 /// empty string, an empty option key or a duplicated option.
 Result<SourceSpec> parseSourceSpec(std::string_view text);
 
@@ -72,7 +72,10 @@ struct SourceInfo {
     std::string driver;        ///< kernel driver, libcamera pipeline, "sim", "replay", ...
     PixelFormat format = PixelFormat::Invalid;
     Size size;
-    double fps = 0.0;                   ///< nominal frame rate, 0 when unknown or unpaced
+    double fps = 0.0;  ///< nominal frame rate, 0 when unknown or unpaced
+    /// A camera whose frames arrive at its own pace and cannot be taken again (V4L2, libcamera);
+    /// false for recordings, files and the simulated camera.
+    bool liveCamera = false;
     std::optional<int64_t> frameCount;  ///< total frames for finite sources
     /// How the frames' grey levels encode light, as the source says: a V4L2 format's transfer
     /// function, libcamera's colour space, a recording's header, the convention of image files.

@@ -15,6 +15,7 @@
 #include "infocus/analysis.h"
 #include "infocus/blur.h"
 #include "infocus/metrics.h"
+#include "infocus/pipeline.h"
 #include "infocus/source.h"
 #include "parse.h"
 
@@ -37,27 +38,21 @@ struct AnalyzeArgs {
     std::string transfer = "linear";
 };
 
-// What --blur-search asks of AnalysisOptions: the regions searched afresh a frame (0: all) and
-// the seconds their searches may take (0: no limit).
+// What --blur-search asks of AnalysisOptions: the regions searched afresh a frame (0: all), the
+// seconds their searches may take (0: no limit), and whether a live camera is tracked instead.
 struct BlurSearch {
     int perFrame = 0;
     double budgetS = 0.0;
+    bool trackLiveCamera = false;
 };
 
-// The blur searches of --blur-search @p text for @p source, or none when @p text is not all, auto
-// or a count.
-std::optional<BlurSearch> blurSearch(const std::string& text, const std::string& source) {
+// The blur searches of --blur-search @p text, or none when @p text is not all, auto or a count.
+std::optional<BlurSearch> blurSearch(const std::string& text) {
     if (text == "all") return BlurSearch{};
-    if (text == "auto") {
-        // A live camera's stream is tracked (BlurTracker) so that the blur keeps up with the
-        // frame rate (on frames far out of focus one search costs as much as all the other
-        // regions' edges); recordings, files and sim: are searched in full on every frame, for
-        // the best reading of each.
-        const auto spec = parseSourceSpec(source);
-        if (spec && (spec->kind == "v4l2" || spec->kind == "libcamera"))
-            return BlurSearch{kLiveBlurSearchesPerFrame, kLiveBlurSearchBudgetS};
-        return BlurSearch{};
-    }
+    // A live camera's stream is tracked (BlurTracker) so that the blur keeps up with the frame
+    // rate; recordings, files and sim: are searched in full on every frame, for the best reading
+    // of each. The stream loop asks the source which it is.
+    if (text == "auto") return BlurSearch{0, 0.0, true};
     int n = 0;
     if (!readsWhole(text, n) || n < 1 || n > 65536) return std::nullopt;
     return BlurSearch{n, 0.0};
@@ -175,7 +170,7 @@ int runAnalyze(const AnalyzeArgs& args) {
                           "measures none; drop one of them");
     options.measureBlur = !args.noBlur;
     options.centreWeighted = args.centreWeighted;
-    const auto search = blurSearch(args.blurSearch, args.source);
+    const auto search = blurSearch(args.blurSearch);
     if (!search)
         return usageError(cmd, "--blur-search " + args.blurSearch +
                                    ": use all, auto or a number of regions 1-65536, e.g. 16");
@@ -183,6 +178,7 @@ int runAnalyze(const AnalyzeArgs& args) {
         return usageError(cmd, transferUsage(args.transfer));
     options.blurSearchesPerFrame = search->perFrame;
     options.blurSearchBudgetS = search->budgetS;
+    options.trackLiveCamera = search->trackLiveCamera;
     if (args.format != "jsonl" && args.format != "csv" && args.format != "table")
         return usageError(cmd, "--format " + args.format + ": use jsonl, csv or table");
 
@@ -283,7 +279,7 @@ Command addAnalyzeCommand(CLI::App& app) {
         sub->add_option("--blur-search", args->blurSearch,
                         "Regions whose edges are searched afresh each frame: all, or N to measure "
                         "the edges found before again and search N regions a frame (video rate); "
-                        "auto: for v4l2 and libcamera cameras 16 a frame within 1.5 ms, all "
+                        "auto: for live cameras 16 a frame within 1.5 ms, all "
                         "otherwise")
             ->capture_default_str();
     sub->add_option("--transfer", args->transfer,

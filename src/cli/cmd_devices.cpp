@@ -51,8 +51,7 @@ void printText(const std::vector<DeviceInfo>& devices) {
     for (const auto& d : devices) {
         std::printf("%s  %s (%s, %s%s%s)\n", d.sourceString.c_str(), d.card.c_str(),
                     d.driver.c_str(), d.device.c_str(), d.bus.empty() ? "" : ", ", d.bus.c_str());
-        if (d.mediaController)
-            std::printf("    media-controller node: streams through libcamera, not directly\n");
+        if (d.mediaController) std::printf("    %s\n", mediaControllerNote().c_str());
         if (d.currentFormat) std::printf("    current: %s\n", d.currentFormat->c_str());
         if (d.currentTransfer)
             std::printf("    transfer function: %s (%s%s)\n",
@@ -139,10 +138,7 @@ int runDevices(const DevicesArgs& args) {
         return 0;
     }
     if (devices->empty()) {
-        std::printf(
-            "No camera found: no V4L2 capture node under /dev and no libcamera camera.\n"
-            "Connect a camera (and check you are in the 'video' group), or use a recording or "
-            "sim: as the source.\n");
+        std::printf("%s\n", noCameraMessage().c_str());
         return 0;
     }
     printText(*devices);
@@ -154,7 +150,7 @@ int runDevices(const DevicesArgs& args) {
 Command addDevicesCommand(CLI::App& app) {
     auto args = std::make_shared<DevicesArgs>();
     CLI::App* sub = app.add_subcommand(
-        "devices", "List cameras (V4L2 nodes, libcamera cameras): formats, sizes, rates, focus");
+        "devices", "List " + cameraKindsText() + ": formats, sizes, rates, focus");
     sub->add_flag("--json", args->json, "One JSON array of cameras instead of text");
     return {sub, [args] { return runDevices(*args); }};
 }

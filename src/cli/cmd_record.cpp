@@ -10,6 +10,7 @@
 #include <string>
 
 #include "commands.h"
+#include "infocus/devices.h"
 #include "infocus/recording.h"
 #include "infocus/source.h"
 
@@ -108,9 +109,7 @@ Command addRecordCommand(CLI::App& app) {
     auto args = std::make_shared<RecordArgs>();
     CLI::App* sub = app.add_subcommand(
         "record", "Record a source (camera, sim:, file) to a directory that replays bit-exact");
-    sub->add_option("source", args->source,
-                    "Source string: v4l2:/dev/video0, libcamera:0, sim:..., or a path")
-        ->required();
+    sub->add_option("source", args->source, "Source string: " + sourceStringExamples())->required();
     sub->add_option("-o,--output", args->output, "New or empty directory for the recording")
         ->required();
     auto* frames =

@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "infocus/luma.h"
+#include "infocus/pipeline.h"
 #include "infocus/report.h"
 #include "lens_options.h"
 #include "parse.h"

@@ -44,7 +44,7 @@ using Json = nlohmann::ordered_json;
 
 // A position given on the command line, in the control's unit. A dioptre control takes a
 // distance or dioptres with their unit ("1.2m", "0.8dpt", "inf"), as --focus does; a control in
-// the driver's own steps (V4L2) takes a plain number.
+// the driver's own steps takes a plain number.
 Result<double> parsePosition(const std::string& text, const std::string& option,
                              const FocusRange& range, const std::string& source) {
     if (range.unit == "dioptre") {
@@ -64,7 +64,7 @@ Result<double> parsePosition(const std::string& text, const std::string& option,
     return v;
 }
 
-// "1.002 dpt" or "512 v4l2".
+// "1.002 dpt", or a number in the driver's unit.
 std::string positionText(double v, const std::string& unit) {
     char buf[48];
     if (unit == "dioptre")
@@ -376,7 +376,7 @@ Command addSweepCommand(CLI::App& app) {
     sub->add_option("SOURCE", args->source, "A camera with a focus motor, or sim:")->required();
     sub->add_option("--from", args->from,
                     "First position: a distance or dioptres for a dioptre lens (1.2m, 0.8dpt, "
-                    "inf), a number in the driver's steps for V4L2 (default: the range's start)");
+                    "inf), a number in the driver's steps otherwise (default: the range's start)");
     sub->add_option("--to", args->to, "Last position, as --from (default: the range's end)");
     sub->add_option("--steps", args->steps, "Positions of the first pass, evenly spaced")
         ->check(CLI::Range(2, 1000))

@@ -3,7 +3,7 @@
 // logic of the camera backends.
 #include <catch2/catch.hpp>
 
-#include "drivers/v4l2/mode_choice.h"
+#include "drivers/common/mode_choice.h"
 
 using namespace infocus;
 using namespace infocus::capture;

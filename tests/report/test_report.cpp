@@ -13,6 +13,7 @@
 
 #include "infocus/analysis.h"
 #include "infocus/luma.h"
+#include "infocus/pipeline.h"
 #include "infocus/report.h"
 
 using namespace infocus;

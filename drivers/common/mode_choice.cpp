@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "drivers/v4l2/mode_choice.h"
+#include "drivers/common/mode_choice.h"
 
 #include <algorithm>
 #include <charconv>

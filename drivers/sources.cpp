@@ -59,4 +59,30 @@ Result<std::vector<DeviceInfo>> listDevices() {
     return all;
 }
 
+std::string cameraKindsText() {
+    return "cameras (V4L2 nodes, libcamera cameras)";
+}
+
+std::string noCameraMessage() {
+    std::string where;
+#if HAVE_V4L2
+    where = "no V4L2 capture node under /dev";
+#endif
+#if HAVE_LIBCAMERA
+    where += std::string(where.empty() ? "no" : " and no") + " libcamera camera";
+#endif
+    if (where.empty()) where = "this infocus was built without camera backends";
+    return "No camera found: " + where +
+           ".\nConnect a camera (and check you are in the 'video' group), or use a recording or "
+           "sim: as the source.";
+}
+
+std::string mediaControllerNote() {
+    return "media-controller node: streams through libcamera, not directly";
+}
+
+std::string sourceStringExamples() {
+    return "v4l2:/dev/video0, libcamera:0, sim:..., or a path";
+}
+
 }  // namespace infocus

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Analysis of a whole source, kept apart from the analyser so that code measuring frames it
-// already has does not pull in every frame source.
-#include "infocus/analysis.h"
+// The stream loop: measurement (src/metrics) never opens a source; this is where the two meet.
+#include "infocus/pipeline.h"
 #include "infocus/source.h"
 
 namespace infocus {
@@ -17,9 +16,18 @@ Status analyzeSourceFrames(std::string_view source, const AnalysisOptions& optio
     FrameSource& s = **src;
     const SourceInfo info = s.info();
     AnalysisOptions used = options;
+    bool remake = false;
+    if (options.trackLiveCamera && info.liveCamera) {
+        used.blurSearchesPerFrame = kLiveBlurSearchesPerFrame;
+        used.blurSearchBudgetS = kLiveBlurSearchBudgetS;
+        remake = true;
+    }
     if (options.transferFromSource && info.transfer.curve &&
         *info.transfer.curve != options.transfer) {
         used.transfer = *info.transfer.curve;
+        remake = true;
+    }
+    if (remake) {
         analyzer = Analyzer::create(used);
         if (!analyzer) return analyzer.error();
     }

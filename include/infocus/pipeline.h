@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+/// @file pipeline.h
+/// The stream loop: open a source, take its frames, analyse each, hand the results on. The one
+/// place where measurement meets a source; `analyze`, `depth`, `report` and `sweep` share it.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string_view>
+
+#include "infocus/analysis.h"
+#include "infocus/error.h"
+#include "infocus/frame.h"
+
+namespace infocus {
+
+/// Receives each analysed frame; a failed Status stops the analysis and is returned.
+using AnalysisSink = std::function<Status(const FrameAnalysis&)>;
+
+/// Receives each frame the source reported as damaged (ErrorKind::Corrupt) and skipped.
+using DamageSink = std::function<void(const Error&)>;
+
+struct SourceInfo;
+/// Told once the source is open, before its first frame: what the source delivers, and the options
+/// its frames are analysed with (AnalysisOptions::transferFromSource resolved).
+using StartSink = std::function<void(const SourceInfo&, const AnalysisOptions&)>;
+
+/// Opens @p source (a source string, see source.h) and analyses up to @p maxFrames frames
+/// (0: until the source ends), handing each result to @p sink in order. A damaged frame is
+/// skipped and reported to @p onDamaged (when given); the frames after it are still analysed.
+Status analyzeSource(std::string_view source, const AnalysisOptions& options, uint64_t maxFrames,
+                     const AnalysisSink& sink, const DamageSink& onDamaged = {},
+                     const StartSink& onStart = {});
+
+/// Receives each analysed frame with the frame it measured (valid only during the call).
+using FrameAnalysisSink = std::function<Status(const FrameAnalysis&, const Frame&)>;
+/// analyzeSource for callers that need the pixels too (the report embeds each frame).
+Status analyzeSourceFrames(std::string_view source, const AnalysisOptions& options,
+                           uint64_t maxFrames, const FrameAnalysisSink& sink,
+                           const DamageSink& onDamaged = {}, const StartSink& onStart = {});
+}  // namespace infocus
