@@ -13,7 +13,7 @@
 #include <span>
 
 #include "blur_kernels.h"
-#include "sharpness_kernels.h"
+#include "cpu.h"
 
 namespace infocus {
 

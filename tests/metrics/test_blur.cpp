@@ -16,7 +16,7 @@
 #include "infocus/metrics.h"
 #include "infocus/synth.h"
 #include "src/metrics/blur_kernels.h"
-#include "src/metrics/sharpness_kernels.h"
+#include "src/metrics/cpu.h"
 
 using namespace infocus;
 
