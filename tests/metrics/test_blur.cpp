@@ -15,7 +15,7 @@
 #include "infocus/blur.h"
 #include "infocus/metrics.h"
 #include "infocus/synth.h"
-#include "src/metrics/blur_kernels.h"
+#include "src/metrics/blur/kernels.h"
 #include "src/metrics/cpu.h"
 
 using namespace infocus;
