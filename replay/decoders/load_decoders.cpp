@@ -13,7 +13,8 @@ Result<const Decoders*> loadDecoders(const std::string& purpose) {
     static const Decoders* loaded = nullptr;
     const std::lock_guard<std::mutex> lock(mutex);
     if (loaded) return loaded;
-    auto entry = loadModuleEntry(kDecodersModule, kDecodersEntry, purpose);
+    auto entry = loadModuleEntry(kDecodersModule, kDecodersEntry, purpose,
+                                 moduleSearchPath("replay/decoders"));
     if (!entry) return entry.error();
     const auto get = reinterpret_cast<const Decoders* (*)()>(*entry);
     const Decoders* decoders = get();

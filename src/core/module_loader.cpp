@@ -30,7 +30,7 @@ bool isFile(const std::string& path) {
 
 }  // namespace
 
-std::vector<std::string> moduleSearchPath() {
+std::vector<std::string> moduleSearchPath(const std::string& buildSubdir) {
     if (const char* dir = std::getenv("INFOCUS_MODULE_DIR"); dir && *dir) return {dir};
     std::vector<std::string> path;
     const std::string exeDir = executableDir();
@@ -38,7 +38,7 @@ std::vector<std::string> moduleSearchPath() {
     // An executable of the build tree (the CLI, a test) uses the modules built beside it, not
     // those of an older installation.
     const std::string buildRoot = INFOCUS_BUILD_ROOT;
-    if (exeDir.rfind(buildRoot + "/", 0) == 0) path.push_back(INFOCUS_BUILD_MODULE_DIR);
+    if (exeDir.rfind(buildRoot + "/", 0) == 0) path.push_back(buildRoot + "/" + buildSubdir);
     path.push_back(INFOCUS_MODULE_DIR);
     return path;
 }

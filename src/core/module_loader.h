@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file module_loader.h
-/// Loads the shared modules that hold the heavy parts of infocus (OpenCV's file decoders), so
-/// that a command that never needs them never loads their libraries. Internal to infocus.
+/// Loads the shared modules that hold the heavy parts of infocus (OpenCV's file decoders, the
+/// libcamera backend), so that a command that never needs them never loads their libraries.
+/// Internal to infocus.
 #pragma once
 
 #include <string>
@@ -11,18 +12,20 @@
 
 namespace infocus {
 
-/// Folders searched for a module, in order: only $INFOCUS_MODULE_DIR when it is set; otherwise
-/// the folder of the running executable, the build tree's module folder when the executable
-/// lies in the build tree, and the installed module folder.
-std::vector<std::string> moduleSearchPath();
+/// Folders searched for a module built in folder @p buildSubdir of the build tree
+/// ("replay/decoders"), in order: only $INFOCUS_MODULE_DIR when it is set; otherwise the folder
+/// of the running executable, that build folder when the executable lies in the build tree, and
+/// the installed module folder.
+std::vector<std::string> moduleSearchPath(const std::string& buildSubdir);
 
 /// Loads the module @p fileName (e.g. "infocus-decoders.so") from the first folder of
-/// @p searchPath that holds it and returns the address of its symbol @p entry. The module stays
+/// @p searchPath (moduleSearchPath()) that holds it and returns the address of its symbol
+/// @p entry. The module stays
 /// loaded for the life of the process. A module found nowhere is Unsupported, with a message
 /// saying that @p purpose (e.g. "reading video files") needs it, where it was looked for and
 /// what to do; one found but unloadable names the loader's reason.
 Result<void*> loadModuleEntry(const std::string& fileName, const std::string& entry,
                               const std::string& purpose,
-                              const std::vector<std::string>& searchPath = moduleSearchPath());
+                              const std::vector<std::string>& searchPath);
 
 }  // namespace infocus
