@@ -5,6 +5,7 @@
 /// Internal to infocus.
 #pragma once
 
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -27,5 +28,29 @@ std::vector<std::string> moduleSearchPath(const std::string& buildSubdir);
 Result<void*> loadModuleEntry(const std::string& fileName, const std::string& entry,
                               const std::string& purpose,
                               const std::vector<std::string>& searchPath);
+
+/// The entry-point table @p T of module @p fileName: a struct whose first member is `int abi`,
+/// returned by the module's function @p entry. Loaded once per process (from folder
+/// @p buildSubdir of the build tree or as moduleSearchPath() says) and checked to be of version
+/// @p abi. Errors as loadModuleEntry's, and Unsupported for a module of another version.
+template <class T>
+Result<const T*> loadModuleTable(const std::string& fileName, const std::string& entry, int abi,
+                                 const std::string& purpose, const std::string& buildSubdir) {
+    // A failure is not kept, so that a later message names the search path of its time.
+    static std::mutex mutex;
+    static const T* loaded = nullptr;
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (loaded) return loaded;
+    auto symbol = loadModuleEntry(fileName, entry, purpose, moduleSearchPath(buildSubdir));
+    if (!symbol) return symbol.error();
+    const T* table = reinterpret_cast<const T* (*)()>(*symbol)();
+    if (!table || table->abi != abi)
+        return makeError(ErrorKind::Unsupported,
+                         purpose + " needs the module " + fileName +
+                             " of this infocus version, but the one found is of another; "
+                             "reinstall infocus");
+    loaded = table;
+    return loaded;
+}
 
 }  // namespace infocus
