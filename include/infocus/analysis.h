@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file analysis.h
 /// Per-frame analysis: sharpness and blur width for each region of a grid or ROI list, and its
-/// JSONL form (the `infocus analyze` contract in DESIGN.md).
+/// JSONL form (the `infocus analyze` contract in docs/design.md).
 #pragma once
 
 #include <cstdint>
@@ -26,7 +26,7 @@ struct RegionResult {
     double sharpness = 0.0;  ///< focus measure of the chosen operator (normalised)
     std::optional<double> edgeWidthPx;   ///< 10–90 % edge rise, pixels
     std::optional<double> blurSigmaPx;   ///< Gaussian-equivalent σ, pixels
-    std::optional<double> blurWidthPx;   ///< disc-equivalent diameter (the lecture's ΔX_i), px
+    std::optional<double> blurWidthPx;   ///< disc-equivalent diameter (thin-lens ΔX_i), px
     double confidence = 0.0;             ///< 0–1 trust in the blur fields; 0 when they are null
     std::optional<double> haloFraction;  ///< BlurEstimate::haloFraction (not in the JSONL)
 };
