@@ -34,6 +34,8 @@
 #include "infocus/error.h"
 #include "infocus/frame.h"
 #include "infocus/image.h"
+#include "infocus/lens_presets.h"
+#include "infocus/optics.h"
 
 namespace infocus {
 
@@ -44,23 +46,28 @@ inline constexpr double kSimMaxDiameterPx = 64.0;
 
 /// A thin lens in front of a sensor.
 struct SimLens {
-    double focalLengthM = 4.74e-3;      ///< f
-    double fNumber = 1.8;               ///< N
-    double sensorPixelPitchM = 1.4e-6;  ///< pixel pitch at full sensor resolution
-    Size sensorSize{4608, 2592};        ///< full sensor resolution, pixels
+    /// The default lens: the rpi-cam3 preset (lens_presets.h).
+    SimLens();
+    /// The lens and sensor of @p preset (a preset without a sensor leaves pitch and size 0).
+    explicit SimLens(const optics::LensPreset& preset);
 
+    double focalLengthM = 0.0;       ///< f
+    double fNumber = 0.0;            ///< N
+    double sensorPixelPitchM = 0.0;  ///< pixel pitch at full sensor resolution
+    Size sensorSize;                 ///< full sensor resolution, pixels
+
+    /// The lens as the optics model sees it.
+    optics::ThinLens thinLens() const { return {focalLengthM, fNumber}; }
     /// Aperture diameter A = f/N, metres.
-    double apertureM() const { return focalLengthM / fNumber; }
+    double apertureM() const { return thinLens().aperture(); }
     /// Pixel pitch of an image of @p widthPx covering the whole sensor, metres.
     double pixelPitchM(int widthPx) const { return sensorPixelPitchM * sensorSize.width / widthPx; }
 };
 
-/// Sensor distance z_s behind the lens that focuses at @p focusDioptres (1/u, from the lens):
-/// 1/z_s = 1/f − 1/u. nullopt when the focus is at or inside the focal length.
-std::optional<double> simSensorDistanceM(const SimLens& lens, double focusDioptres);
-
-/// Lecture formula: disc diameter ΔX_i = A·|z_s(1/f − 1/z_o) − 1| on the sensor (metres) of a
-/// point at @p depthM from the lens. nullopt where simSensorDistanceM has no answer.
+/// The thin-lens disc diameter ΔX_i = A·|z_s(1/f − 1/z_o) − 1| on the sensor (metres) of a point
+/// at @p depthM from the lens with the lens focused at @p focusDioptres (1/u; 0 is infinity):
+/// optics::blurWidth at optics::sensorDistanceForFocus. nullopt when the focus is at or inside
+/// the focal length or the depth is not positive.
 std::optional<double> simBlurDiameterM(const SimLens& lens, double focusDioptres, double depthM);
 
 /// The scenes of the simulated camera.

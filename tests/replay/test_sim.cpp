@@ -2,9 +2,8 @@
 // The simulated camera against the lecture's thin-lens defocus model: the per-region disc
 // diameter equals ΔX_i computed independently here, a rendered edge rises 10–90 % over
 // 0.68705·d, the disc rendering equals a brute-force pixel-area convolution, focus moves after
-// one settle frame, and frames are deterministic per seed and fast enough for 720p30.
+// one settle frame, and frames are deterministic per seed.
 #include <catch2/catch.hpp>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 
@@ -72,7 +71,7 @@ TEST_CASE("the renderer's blur diameter is the lecture's ΔX_i") {
         }
     // Focus at infinity: z_s = f, ΔX_i = A·f/z_o.
     REQUIRE(*simBlurDiameterM(lens, 0.0, 2.0) == Approx(kF / kN * kF / 2.0).epsilon(1e-12));
-    REQUIRE(!simSensorDistanceM(lens, 1.0 / 0.004).has_value());  // focus inside f
+    REQUIRE(!simBlurDiameterM(lens, 1.0 / 0.004, 2.0).has_value());  // focus inside f
 
     // Per region of the steps scene: the rendered diameter is ΔX_i in pixels, quantised.
     auto r = renderer("scene=steps,distances=0.25m:0.5m:1m:2m,focus=1m,size=1280x720");
@@ -276,6 +275,18 @@ TEST_CASE("sim: source frames, focus control with one settle frame, determinism"
     }
 }
 
+TEST_CASE("the default lens is the rpi-cam3 preset") {
+    const optics::LensPreset* cam3 = optics::findLensPreset("rpi-cam3");
+    REQUIRE(cam3 != nullptr);
+    const SimLens lens;
+    CHECK(lens.focalLengthM == cam3->focalLength);
+    CHECK(lens.fNumber == cam3->fNumber);
+    CHECK(lens.sensorPixelPitchM == cam3->pixelPitch);
+    CHECK(lens.sensorSize.width == cam3->sensorWidthPx);
+    CHECK(lens.sensorSize.height == cam3->sensorHeightPx);
+    CHECK(SimConfig{}.lens.focalLengthM == cam3->focalLength);
+}
+
 TEST_CASE("sim: YUYV output, options and errors") {
     auto s = openSim("sim:size=32x16,format=YUYV,pace=fast");
     REQUIRE(s.ok());
@@ -294,26 +305,4 @@ TEST_CASE("sim: YUYV output, options and errors") {
         REQUIRE(e.error().kind == ErrorKind::Usage);
         REQUIRE_THAT(e.error().message, Catch::Contains("sim:"));
     }
-}
-
-TEST_CASE("sim: 720p with noise runs at 30 fps or more on one core") {
-    auto s = openSim("sim:scene=tilted,size=1280x720,pace=fast,noise=0.01");
-    REQUIRE(s.ok());
-    REQUIRE((*s)->start().ok());
-    REQUIRE((*s)->next().ok());  // first frame renders the blur for this focus
-    const auto t0 = std::chrono::steady_clock::now();
-    const int n = 30;
-    for (int i = 0; i < n; ++i)
-        REQUIRE((*s)->next().ok());
-    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    WARN("sim 720p: " << n / sec << " frames/s at a fixed focus");
-    REQUIRE(n / sec >= 30.0);
-    // A focus change re-renders the blur: report its cost.
-    REQUIRE((*s)->focusControl()->set(3.0).ok());
-    const auto t1 = std::chrono::steady_clock::now();
-    for (int i = 0; i < 3; ++i)
-        REQUIRE((*s)->next().ok());
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
-    WARN("sim 720p: 3 frames across a focus change took " << ms << " ms");
 }

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// The simulated camera's renderer state, shared by the scene builder and the renderer.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "infocus/image.h"
+#include "infocus/sim.h"
+#include "infocus/synth.h"
+
+namespace infocus {
+
+namespace sim {
+
+// Number of quantised disc diameters, 0..kSimMaxDiameterPx in kSimDiameterStepPx.
+constexpr int kMaxLevel = static_cast<int>(kSimMaxDiameterPx / kSimDiameterStepPx);
+// Texture padding so every disc tap stays inside the texture without bounds checks.
+constexpr int kPad = static_cast<int>(kSimMaxDiameterPx / 2) + 2;
+
+}  // namespace sim
+
+struct SimRenderer::Impl {
+    int w = 0, h = 0;            // output size
+    Image<float> texture;        // padded by sim::kPad on every side, grey levels
+    std::vector<double> prefix;  // per padded row: width + 1 prefix sums
+    std::vector<float> depth;    // per output pixel, metres
+    std::vector<std::unique_ptr<synth::GatherKernel>> kernels =
+        std::vector<std::unique_ptr<synth::GatherKernel>>(sim::kMaxLevel + 1);
+
+    // The kernel of a quantised diameter level, built on first use.
+    const synth::GatherKernel& kernel(int level);
+};
+
+}  // namespace infocus
