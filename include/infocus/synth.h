@@ -153,6 +153,17 @@ struct GatherKernel {
 /// below 1 px in diameter lies inside the centre pixel: a single tap of weight 1.
 GatherKernel discGatherKernel(double diameterPx);
 
+/// The defocus PSF, a uniform disc of diameter @p discDiameterPx convolved with a Gaussian of
+/// σ @p sigmaPx (a diffraction core), as a GatherKernel for a texture whose pixels already hold
+/// the sharp scene's area average over each pixel (as paintDeadLeavesPixels paints it): the
+/// texture is read as a continuous image interpolated with Keys' cubic (a = −0.5, which passes
+/// through the samples and adds no second moment) and blurred by the PSF, weight(k) =
+/// ∫ PSF(u)·keys(k_x − u_x)·keys(k_y − u_y) du; the disc by an exact chord integral along x and
+/// the midpoint rule in θ (u_y = r sin θ) along y, the Gaussian by 7-point Gauss–Hermite. Both
+/// sizes 0 give the identity; any blur, however small, moves weight to the neighbours, so a
+/// 0.2 px and a 0.3 px disc differ. Weights near the disc's rim may be slightly negative.
+GatherKernel defocusGatherKernel(double discDiameterPx, double sigmaPx);
+
 /// Paints a natural-like texture directly at pixel resolution over @p image, filled first with
 /// grey 128: dead leaves with log-uniform radii between @p minRadiusPx and @p maxRadiusPx (equal
 /// numbers per octave, so edges at every scale) covering the image about three times, grey
