@@ -148,11 +148,6 @@ struct GatherKernel {
     int extent() const;
 };
 
-/// The uniform disc of diameter @p diameterPx (the thin-lens defocus PSF) as a GatherKernel:
-/// the disc's area in each pixel (discPixelCoverage on 64 × 64 points), normalised. A disc
-/// below 1 px in diameter lies inside the centre pixel: a single tap of weight 1.
-GatherKernel discGatherKernel(double diameterPx);
-
 /// The defocus PSF, a uniform disc of diameter @p discDiameterPx convolved with a Gaussian of
 /// σ @p sigmaPx (a diffraction core), as a GatherKernel for a texture whose pixels already hold
 /// the sharp scene's area average over each pixel (as paintDeadLeavesPixels paints it): the

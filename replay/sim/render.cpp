@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
-// The simulated camera's renderer: each output pixel gathers the texture through the defocus
-// PSF of its own depth.
+// The simulated camera's renderer: each output pixel gathers the texture through the PSF of its
+// own depth.
 //
-// Defocus model (thin lens, src/optics): a point at depth z_o images to a uniform disc of
-// diameter ΔX_i = A·|z_s(1/f − 1/z_o) − 1| with A = f/N and z_s the sensor distance for the
-// focus setting. The disc is converted to output pixels with the pixel pitch and integrated over
-// each pixel's area (synth::discGatherKernel), so the rendered edge has the disc's 10–90 % rise
-// of 0.68705·d (convolved with the 1-pixel box of the sensor).
+// PSF: the thin-lens defocus disc (src/optics) of diameter ΔX_i = A·|z_s(1/f − 1/z_o) − 1|,
+// A = f/N, z_s the sensor distance for the focus setting, convolved (not added in quadrature)
+// with a Gaussian of σ = 0.42·λ·N, the usual fit to the Airy pattern's core (Airy disc
+// diameter 2.44·λ·N, λ = 550 nm). The texture already holds each pixel's area average of the
+// sharp scene (the sensor's integration), so it is blurred as a continuous image interpolated
+// with a cubic that adds no blur of its own (synth::defocusGatherKernel): blur far below a pixel
+// still changes the image, as through a real lens near focus.
 #include <algorithm>
 #include <cmath>
 
@@ -15,12 +17,11 @@
 namespace infocus {
 
 using sim::kMaxLevel;
-using sim::kPad;
 
 const synth::GatherKernel& SimRenderer::Impl::kernel(int level) {
     if (!kernels[level])
         kernels[level] = std::make_unique<synth::GatherKernel>(
-            synth::discGatherKernel(level * kSimDiameterStepPx));
+            synth::defocusGatherKernel(level * kSimDiameterStepPx, sigmaPx));
     return *kernels[level];
 }
 
@@ -36,8 +37,8 @@ Image<float> SimRenderer::render(double focusDioptres) {
     for (int y = 0; y < m.h; ++y) {
         const float* depthRow = &m.depth[static_cast<size_t>(y) * m.w];
         float* o = out.row(y);
-        const double* prow = &m.prefix[static_cast<size_t>(y + kPad) * pw + kPad];
-        const float* trow = m.texture.row(y + kPad) + kPad;
+        const double* prow = &m.prefix[static_cast<size_t>(y + m.pad) * pw + m.pad];
+        const float* trow = m.texture.row(y + m.pad) + m.pad;
         const synth::GatherKernel* k = nullptr;
         for (int x = 0; x < m.w; ++x) {
             if (depthRow[x] != lastDepth || !k) {

@@ -15,14 +15,16 @@ namespace sim {
 
 // Number of quantised disc diameters, 0..kSimMaxDiameterPx in kSimDiameterStepPx.
 constexpr int kMaxLevel = static_cast<int>(kSimMaxDiameterPx / kSimDiameterStepPx);
-// Texture padding so every disc tap stays inside the texture without bounds checks.
+// Padding the texture is painted with; a wide diffraction core pads further by replication.
 constexpr int kPad = static_cast<int>(kSimMaxDiameterPx / 2) + 2;
 
 }  // namespace sim
 
 struct SimRenderer::Impl {
     int w = 0, h = 0;            // output size
-    Image<float> texture;        // padded by sim::kPad on every side, grey levels
+    int pad = 0;                 // texture margin: every kernel tap stays inside it
+    double sigmaPx = 0.0;        // diffraction core σ, output pixels
+    Image<float> texture;        // padded by pad on every side, grey levels
     std::vector<double> prefix;  // per padded row: width + 1 prefix sums
     std::vector<float> depth;    // per output pixel, metres
     std::vector<std::unique_ptr<synth::GatherKernel>> kernels =

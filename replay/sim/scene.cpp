@@ -50,16 +50,31 @@ Result<std::unique_ptr<SimRenderer>> SimRenderer::create(const SimConfig& config
     Impl& m = *r->impl_;
     m.w = config.size.width;
     m.h = config.size.height;
-    const int wp = m.w + 2 * kPad, hp = m.h + 2 * kPad;
+    const double pitch = config.lens.pixelPitchM(m.w);
+    // Airy core as a Gaussian: σ = 0.42 λN = (0.42 / 2.44) × the Airy disc's diameter.
+    m.sigmaPx =
+        0.42 / 2.44 * optics::airyDiscDiameter(config.lens.fNumber, kSimWavelengthM) / pitch;
+    // The widest kernel reaches the largest disc's radius plus the interpolation (2 px) and 5 σ.
+    m.pad = std::max(kPad, static_cast<int>(std::ceil(kSimMaxDiameterPx / 2 + 2 + 5 * m.sigmaPx)));
+    const int wp = m.w + 2 * m.pad, hp = m.h + 2 * m.pad;
     m.texture = Image<float>(wp, hp);
     if (config.scene == SimScene::Edges) {
         // Squares of a sixteenth of the width, the chart centred in the output image.
         const double period = std::max(16, 2 * (m.w / 16));
-        synth::paintSlantedSquaresPixels(m.texture, period, config.edgeAngleDeg, kPad + m.w / 2.0,
-                                         kPad + m.h / 2.0, 51.0f, 204.0f);
+        synth::paintSlantedSquaresPixels(m.texture, period, config.edgeAngleDeg, m.pad + m.w / 2.0,
+                                         m.pad + m.h / 2.0, 51.0f, 204.0f);
     } else {
-        synth::paintDeadLeavesPixels(m.texture, config.seed, std::max(1.5, m.w / 400.0),
-                                     m.w / 20.0);
+        // Painted with the fixed margin (the texture does not depend on the lens), then widened
+        // by repeating its border.
+        Image<float> leaves(m.w + 2 * kPad, m.h + 2 * kPad);
+        synth::paintDeadLeavesPixels(leaves, config.seed, std::max(1.5, m.w / 400.0), m.w / 20.0);
+        const int extra = m.pad - kPad;
+        for (int y = 0; y < hp; ++y) {
+            const float* src = leaves.row(std::clamp(y - extra, 0, leaves.height() - 1));
+            float* dst = m.texture.row(y);
+            for (int x = 0; x < wp; ++x)
+                dst[x] = src[std::clamp(x - extra, 0, leaves.width() - 1)];
+        }
     }
 
     // Row prefix sums let a run of fully covered disc pixels be summed with one subtraction.
@@ -75,7 +90,6 @@ Result<std::unique_ptr<SimRenderer>> SimRenderer::create(const SimConfig& config
     // Depth per output pixel. The tilted plane Z = d + tanθ·Y is intersected with the pixel's
     // ray through the lens centre (Y = Z·v, v the sensor coordinate over f).
     m.depth.resize(static_cast<size_t>(m.w) * m.h);
-    const double pitch = config.lens.pixelPitchM(m.w);
     const double tanT = std::tan(config.tiltDeg * std::numbers::pi / 180);
     const size_t bands = config.distancesM.size();
     for (int y = 0; y < m.h; ++y)
@@ -119,6 +133,15 @@ double SimRenderer::renderedDiameterPxAt(int x, int y, double focusDioptres) con
     return level * kSimDiameterStepPx;
 }
 
+double SimRenderer::diffractionSigmaPx() const {
+    return impl_->sigmaPx;
+}
+
+double SimRenderer::airyDiameterPx() const {
+    return optics::airyDiscDiameter(config_.lens.fNumber, kSimWavelengthM) /
+           config_.lens.pixelPitchM(config_.size.width);
+}
+
 std::vector<SimRegion> SimRenderer::regions(double focusDioptres) const {
     std::vector<SimRegion> out;
     const int w = config_.size.width, h = config_.size.height;
@@ -157,7 +180,7 @@ Image<float> SimRenderer::sharpImage() const {
     const Impl& m = *impl_;
     Image<float> img(m.w, m.h);
     for (int y = 0; y < m.h; ++y)
-        std::memcpy(img.row(y), m.texture.row(y + kPad) + kPad, sizeof(float) * m.w);
+        std::memcpy(img.row(y), m.texture.row(y + m.pad) + m.pad, sizeof(float) * m.w);
     return img;
 }
 

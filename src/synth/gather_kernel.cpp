@@ -162,38 +162,4 @@ GatherKernel defocusGatherKernel(double discDiameterPx, double sigmaPx) {
     return k;
 }
 
-GatherKernel discGatherKernel(double diameterPx) {
-    GatherKernel k;
-    const double r = diameterPx / 2;
-    if (r < 1e-9) {
-        k.taps.push_back({0, 0, 1.0});
-        return k;
-    }
-    const int ext = static_cast<int>(std::ceil(r + 0.5));
-    const int side = 2 * ext + 1;
-    std::vector<double> cov(static_cast<size_t>(side) * side);
-    double total = 0.0;
-    for (int dy = -ext; dy <= ext; ++dy)
-        for (int dx = -ext; dx <= ext; ++dx) {
-            const double c = discPixelCoverage(dx, dy, r, 64);
-            cov[(dy + ext) * side + dx + ext] = c;
-            total += c;
-        }
-    k.fullWeight = 1.0 / total;
-    for (int dy = -ext; dy <= ext; ++dy) {
-        int a = INT_MAX, b = INT_MIN;
-        for (int dx = -ext; dx <= ext; ++dx) {
-            const double c = cov[(dy + ext) * side + dx + ext];
-            if (c >= 1.0) {
-                a = std::min(a, dx);
-                b = std::max(b, dx);
-            } else if (c > 0.0) {
-                k.taps.push_back({dy, dx, c / total});
-            }
-        }
-        if (a <= b) k.runs.push_back({dy, a, b});
-    }
-    return k;
-}
-
 }  // namespace infocus::synth
