@@ -32,7 +32,8 @@
 /// (a focus change smaller than that renders the same frame) and capped at kSimMaxDiameterPx;
 /// diffraction is one wavelength and a Gaussian core (no Airy rings, no colour); the disc is
 /// uniform (no aberrations, vignetting or cat's-eye shapes off axis); the texture itself is
-/// sampled at the output pixels, so detail finer than a pixel is absent (no aliasing).
+/// sampled at the output pixels, so detail finer than a pixel is absent (no aliasing); the
+/// cubic's small negative lobes can overshoot a sharp edge slightly under sub-pixel blur.
 #pragma once
 
 #include <cstdint>
