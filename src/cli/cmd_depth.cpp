@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "infocus/analysis.h"
 #include "infocus/depth_map.h"
+#include "infocus/output.h"
 #include "infocus/pipeline.h"
 #include "infocus/plane_fit.h"
 #include "lens_options.h"

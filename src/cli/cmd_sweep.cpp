@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "infocus/output.h"
 #include "infocus/sweep.h"
 #include "lens_options.h"
 #include "parse.h"

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "infocus/analysis.h"
+#include "infocus/output.h"
 #include "src/core/read_number.h"
 
 namespace infocus {
