@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file output.h
 /// What the commands write, apart from what they measure: the `infocus analyze` record as JSONL
-/// (and read back), CSV and a table for people. The formats are the contract in DESIGN.md.
+/// (and read back), CSV and a table for people; a frame's depth map as JSON or a table. The
+/// formats are the contract in DESIGN.md; lengths for people come from units.h.
 #pragma once
 
 #include <optional>
@@ -10,7 +11,9 @@
 #include <string_view>
 
 #include "infocus/analysis.h"
+#include "infocus/depth_map.h"
 #include "infocus/error.h"
+#include "infocus/units.h"
 
 namespace infocus {
 
@@ -31,5 +34,26 @@ void writeAnalysisCsv(std::ostream& out, const FrameAnalysis& a, bool header);
 /// Writes @p a for people: a line about the frame, then with @p grid the sharpness (in % of the
 /// sharpest region) and blur-width grids row by row, without it one line per ROI.
 void writeAnalysisTable(std::ostream& out, const FrameAnalysis& a, bool grid);
+
+// ---- depth: a frame's depth map ----
+
+/// The camera a frame's depth map was read with (CameraGeometry of depthMap), as reported.
+struct DepthCamera {
+    optics::ThinLens lens;
+    double focusDistance = 0.0;  ///< metres from the lens
+    std::string focusSource;     ///< where the focus came from: "--focus", the lens position
+    double pixelPitch = 0.0;     ///< metres per pixel of the analysed image
+    double blurFloorPx = 0.0;    ///< DepthMapOptions::blurFloorPx the map removed
+};
+
+/// The depth map @p map of frame @p a as one JSON object (no trailing newline): the frame, the
+/// camera, each region's blur, defocus and two depths (metres, null for infinity or none), the
+/// in-focus plane and both scene planes (null without a fit).
+std::string depthJsonLine(const FrameAnalysis& a, const DepthMap& map, const DepthCamera& camera);
+
+/// Writes the depth map @p map of frame @p a for people: the camera, one row per region with its
+/// near and far roots, then the in-focus plane and both readings of the scene's tilt.
+void writeDepthTable(std::ostream& out, const FrameAnalysis& a, const DepthMap& map,
+                     const DepthCamera& camera);
 
 }  // namespace infocus
