@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file output.h
 /// What the commands write, apart from what they measure: the `infocus analyze` record as JSONL
-/// (and read back), CSV and a table for people; a frame's depth map as JSON or a table. The
-/// formats are the contract in DESIGN.md; lengths for people come from units.h.
+/// (and read back), CSV and a table for people; a frame's depth map as JSON or a table; a focus
+/// sweep's summary as JSON or text. The formats are the contract in DESIGN.md; lengths for
+/// people come from units.h.
 #pragma once
 
 #include <optional>
@@ -13,6 +14,7 @@
 #include "infocus/analysis.h"
 #include "infocus/depth_map.h"
 #include "infocus/error.h"
+#include "infocus/sweep.h"
 #include "infocus/units.h"
 
 namespace infocus {
@@ -55,5 +57,27 @@ std::string depthJsonLine(const FrameAnalysis& a, const DepthMap& map, const Dep
 /// near and far roots, then the in-focus plane and both readings of the scene's tilt.
 void writeDepthTable(std::ostream& out, const FrameAnalysis& a, const DepthMap& map,
                      const DepthCamera& camera);
+
+// ---- sweep: positions measured and the peaks found ----
+
+/// A sweep's summary as JSON (the `infocus sweep --json` object and summary.json): each step,
+/// the best position, each region's peak and blur V, where the lens was left. @p indent as
+/// nlohmann's dump: -1 on one line, n spaces a level otherwise.
+std::string sweepSummaryJson(std::string_view source, const SweepResult& r, int settleFrames,
+                             int indent = -1);
+
+/// Writes the two lines that open a sweep's table: what is swept from @p from to @p to (in
+/// @p range's unit), how, and the column titles.
+void writeSweepHeader(std::ostream& out, std::string_view source, const FocusRange& range,
+                      double from, double to, int steps, int refineSteps, int settleFrames);
+
+/// Writes the table row of one measured position: pass, lens, distance in focus, frame
+/// sharpness and the median blur width of the regions that have one.
+void writeSweepStep(std::ostream& out, const SweepStep& s);
+
+/// Writes what a sweep with a best position (SweepResult::best set) found: the best focus,
+/// the grid of each region's sharpest position and, where blur was fitted, the grid of where
+/// each region's blur vanishes and the blur's slope. @p movedToBest: the lens was left there.
+void writeSweepSummary(std::ostream& out, const SweepResult& r, bool movedToBest);
 
 }  // namespace infocus
