@@ -2,8 +2,8 @@
 /// @file output.h
 /// What the commands write, apart from what they measure: the `infocus analyze` record as JSONL
 /// (and read back), CSV and a table for people; a frame's depth map as JSON or a table; a focus
-/// sweep's summary as JSON or text. The formats are the contract in DESIGN.md; lengths for
-/// people come from units.h.
+/// sweep's summary as JSON or text; a depth-of-field answer as JSON or text. The formats are
+/// the contract in DESIGN.md; lengths for people come from units.h.
 #pragma once
 
 #include <optional>
@@ -13,6 +13,7 @@
 
 #include "infocus/analysis.h"
 #include "infocus/depth_map.h"
+#include "infocus/dof.h"
 #include "infocus/error.h"
 #include "infocus/sweep.h"
 #include "infocus/units.h"
@@ -79,5 +80,23 @@ void writeSweepStep(std::ostream& out, const SweepStep& s);
 /// the grid of each region's sharpest position and, where blur was fitted, the grid of where
 /// each region's blur vanishes and the blur's slope. @p movedToBest: the lens was left there.
 void writeSweepSummary(std::ostream& out, const SweepResult& r, bool movedToBest);
+
+// ---- dof: a depth-of-field answer ----
+
+/// The limits asked of `infocus dof --near --far`, metres (far may be ∞).
+struct DofWanted {
+    double nearDistance = 0.0;
+    double farDistance = 0.0;
+};
+
+/// @p r for input @p in as one JSON object (no trailing newline), metres and null for infinity;
+/// with @p wanted also the limits asked for.
+std::string dofJson(const optics::DofResult& r, const optics::DofInput& in,
+                    std::string_view cocSource, const std::optional<DofWanted>& wanted = {});
+
+/// Writes @p r for people: with @p wanted first the focus and f-number that cover it, then the
+/// limits, the hyperfocal distance, the common approximations and the diffraction budget.
+void writeDofText(std::ostream& out, const optics::DofResult& r, const optics::DofInput& in,
+                  std::string_view cocSource, const std::optional<DofWanted>& wanted = {});
 
 }  // namespace infocus
