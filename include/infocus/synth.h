@@ -30,7 +30,7 @@ struct Psf {
 
     /// A Gaussian PSF of standard deviation @p sigmaPx (pixels).
     static Psf gaussian(double sigmaPx) { return {PsfShape::Gaussian, sigmaPx}; }
-    /// A uniform disc PSF of diameter @p diameterPx (pixels): the lecture's ΔX_i.
+    /// A uniform disc PSF of diameter @p diameterPx (pixels): the thin-lens model's ΔX_i.
     static Psf disc(double diameterPx) { return {PsfShape::Disc, diameterPx}; }
 
     /// σ of the PSF's projection on any line (Gaussian: σ; disc of diameter d: d/4).

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @file lens_options.h
-/// The shared lens options of the CLI (DESIGN.md "Lens options"): --focal, --fnumber, --focus,
+/// The shared lens options of the CLI (docs/design.md, Lens options): --focal, --fnumber, --focus,
 /// --pixel-pitch, --coc, --lens PRESET. Values arrive as text and are parsed here, so a bad value
 /// gets a message that says what to type instead. Everything comes out in SI units.
 #pragma once

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The simulated camera against the lecture's thin-lens defocus model: the per-region disc
+// The simulated camera against the thin-lens model's thin-lens defocus model: the per-region disc
 // diameter equals ΔX_i computed independently here, a rendered edge rises 10–90 % over
 // 0.68705·d, the disc rendering equals a brute-force convolution of the interpolated texture,
 // focus moves after one settle frame, and frames are deterministic per seed.
@@ -31,10 +31,10 @@ std::unique_ptr<SimRenderer> renderer(const std::string& options) {
     return std::move(*r);
 }
 
-// Lecture 5, in the "linear in dioptric defocus" form: ΔX_i = A·z_s·|1/z_o − 1/u|, with the
-// thin-lens sensor distance z_s = f·u/(u − f) and A = f/N. Independent of the renderer's form
-// A·|z_s(1/f − 1/z_o) − 1|; both are equal by 1/f = 1/z_s + 1/u.
-double lectureBlurM(double f, double n, double u, double zo) {
+// The thin lens (docs/optics.md), in the "linear in dioptric defocus" form: ΔX_i = A·z_s·|1/z_o −
+// 1/u|, with the thin-lens sensor distance z_s = f·u/(u − f) and A = f/N. Independent of the
+// renderer's form A·|z_s(1/f − 1/z_o) − 1|; both are equal by 1/f = 1/z_s + 1/u.
+double thinLensBlurM(double f, double n, double u, double zo) {
     const double zs = f * u / (u - f);
     return (f / n) * zs * std::abs(1.0 / zo - 1.0 / u);
 }
@@ -59,11 +59,11 @@ double riseWidth(const std::vector<double>& p, double hi, double lo) {
 
 }  // namespace
 
-TEST_CASE("the renderer's blur diameter is the lecture's ΔX_i") {
+TEST_CASE("the renderer's blur diameter is the thin-lens model's ΔX_i") {
     SimLens lens;
     for (double u : {0.3, 1.2, 5.0})
         for (double zo : {0.1, 0.25, 0.6, 1.2, 3.0, 100.0}) {
-            const double expect = lectureBlurM(kF, kN, u, zo);
+            const double expect = thinLensBlurM(kF, kN, u, zo);
             auto got = simBlurDiameterM(lens, 1.0 / u, zo);
             REQUIRE(got.has_value());
             // Same quantity by two algebraic routes: equal to rounding (1e-9 relative).
@@ -80,7 +80,7 @@ TEST_CASE("the renderer's blur diameter is the lecture's ΔX_i") {
     const double depths[] = {0.25, 0.5, 1.0, 2.0};
     for (size_t i = 0; i < 4; ++i) {
         const Rect& rc = regions[i].rect;
-        const double expectPx = lectureBlurM(kF, kN, 1.0, depths[i]) / kPitch1280;
+        const double expectPx = thinLensBlurM(kF, kN, 1.0, depths[i]) / kPitch1280;
         INFO("region " << i << " expect " << expectPx << " px");
         REQUIRE(regions[i].depthM == Approx(depths[i]).epsilon(1e-6));  // float depth map
         REQUIRE(regions[i].blurDiameterPx == Approx(expectPx).epsilon(1e-6));

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The generator's images match the optics they claim: ESF rise constants from DESIGN.md, pixel
+// The generator's images match the optics they claim: ESF rise constants from docs/design.md, pixel
 // integration against an independent numerical integral, PSF moments, seeded noise.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -39,7 +39,7 @@ void moments(const Image<float>& img, double& mean, double& varX, double& varY) 
 
 }  // namespace
 
-TEST_CASE("edge spread rises 10-90 % as DESIGN.md states", "[synth]") {
+TEST_CASE("edge spread rises 10-90 % as docs/design.md states", "[synth]") {
     // Constants are given to 5 digits: relative tolerance 1e-4.
     for (double s : {0.5, 1.0, 3.7})
         CHECK(rise(Psf::gaussian(s)) == Approx(2.5631 * s).epsilon(1e-4));
