@@ -13,17 +13,14 @@
 #include "infocus/blur.h"
 #include "infocus/metrics.h"
 #include "infocus/synth.h"
+#include "tests/common/test_data.h"
 
 using namespace infocus;
 using namespace infocus::blur_test;
 
 TEST_CASE("real focus stack: blur is smallest where sharpness peaks", "[blur][data]") {
     namespace fs = std::filesystem;
-    const fs::path dir = fs::path(INFOCUS_DATA_DIR) / "focus-stack" / "pcb";
-    if (!fs::exists(dir)) {
-        WARN("no focus stack at " << dir.string() << "; skipped");
-        return;
-    }
+    const fs::path dir = infocus::test::requireData("focus-stack/pcb");
     // Full resolution (2048×1536): at half scale the board's edges are too short and too
     // crowded for straight segments.
     std::vector<cv::Mat> frames;

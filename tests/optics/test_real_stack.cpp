@@ -18,18 +18,16 @@
 #include <string>
 #include <vector>
 
+#include "tests/common/test_data.h"
+
 int main() {
     const char* bin = std::getenv("INFOCUS");
     if (!bin) {
         std::cerr << "set INFOCUS to the infocus executable\n";
         return 1;
     }
-    const std::string dir = std::string(INFOCUS_DATA_DIR) + "/focus-stack/pcb";
-    struct stat st {};
-    if (::stat((dir + "/pcb_001.jpg").c_str(), &st) != 0) {
-        std::cerr << "no focus stack at " << dir << ": skipped\n";
-        return 77;
-    }
+    const std::string dir =
+        infocus::test::requireData("focus-stack/pcb/pcb_001.jpg").parent_path().string();
     const std::string cmd = std::string(bin) + " depth '" + dir +
                             "/pcb_*.jpg' --frames 0 --grid 16x12 --focal 50mm --fnumber 4 "
                             "--focus 0.3m --pixel-pitch 3um --json";

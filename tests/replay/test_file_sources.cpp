@@ -18,6 +18,7 @@
 #include "replay/replay_sources.h"
 #include "src/core/module_loader.h"
 #include "tests/common/scratch_dir.h"
+#include "tests/common/test_data.h"
 
 using namespace infocus;
 
@@ -304,8 +305,7 @@ TEST_CASE("images: JPEG as MJPEG bytes, PNG as GREY or Y16, directories and glob
 }
 
 TEST_CASE("the real focus stack plays as MJPEG frames in name order") {
-    const std::string dir = "/work/shared/data/focus-stack/depthmap";
-    if (::access(dir.c_str(), R_OK) != 0) return;  // data not present on this machine
+    const std::string dir = infocus::test::requireData("focus-stack/depthmap").string();
     auto src = openPath(dir);
     REQUIRE(src.ok());
     REQUIRE((*src)->info().frameCount == 10);
