@@ -44,10 +44,12 @@ cp /bin/busybox "$rd/bin/busybox"
 for a in sh mount umount insmod sleep echo cat ls kill grep sed head tail wc rm mkdir poweroff \
 	seq cut tr ln sync dmesg; do ln -sf busybox "$rd/bin/$a"; done
 
-copy_with_libs() {  # copies a program and the libraries ldd lists, at the same paths
+copy_with_libs() {  # copies a program (unless it is in the initramfs already) and its libraries
 	local f=$1
-	mkdir -p "$rd$(dirname "$f")"
-	cp -L "$f" "$rd$f"
+	if [[ $f != "$rd"/* ]]; then
+		mkdir -p "$rd$(dirname "$f")"
+		cp -L "$f" "$rd$f"
+	fi
 	ldd "$f" 2>/dev/null | grep -o '/[^ ]*' | while read -r lib; do
 		[[ -e "$rd$lib" ]] && continue
 		mkdir -p "$rd$(dirname "$lib")"
