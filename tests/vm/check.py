@@ -143,6 +143,30 @@ def main():
     part("d disconnect", rc(t, "d_unplug") not in (None, 0) and "disconnected" in err
          and rc(t, "d_replay") == 0 and len(rows) >= 1,
          f"exit {rc(t, 'd_unplug')}: {err.strip()[:300]}; replayed {len(rows)} frames")
+
+    # g. the live assistant: a JSON state a second with every field, frames counted; an unplug
+    # mid-run ends it with exit 1 and the reason
+    fields = ("frame", "elapsed_s", "width", "height", "fps", "dropped", "skipped",
+              "latency_p50_ms", "latency_p99_ms", "metric", "score", "peak", "percent_of_peak",
+              "trend", "blur_px", "lens_position", "in_focus_distance_m", "grid", "regions")
+    for tag, name in (("g_v4l2", "vivid/V4L2"), ("g_lc", "vimc/libcamera")):
+        rows = jsonl(t, tag)
+        missing = sorted({f for r in rows for f in fields if f not in r})
+        last = rows[-1] if rows else {}
+        ok = rc(t, tag) == 0 and len(rows) >= 4 and not missing and last.get("frame", 0) > 0 \
+            and last.get("fps", 0) > 0 and bool(last.get("regions"))
+        detail = f"exit {rc(t, tag)}, {len(rows)} states" + \
+            (f", last frame {last['frame']} at {last['fps']:.1f} fps, {last['width']}x"
+             f"{last['height']}, {len(last['regions'])} regions, dropped {last['dropped']}, "
+             f"skipped {last['skipped']}, latency p50 {last['latency_p50_ms']:.0f} ms"
+             if rows and not missing else "") + \
+            (f"; missing {missing}" if missing else "") + \
+            ("" if ok else "; " + text(t, tag, "err").strip()[:300])
+        part(f"g live {name}", ok, detail)
+    err = text(t, "g_unplug", "err")
+    rows = jsonl(t, "g_unplug")
+    part("g live disconnect", rc(t, "g_unplug") == 1 and "disconnected" in err and len(rows) >= 1,
+         f"exit {rc(t, 'g_unplug')} after {len(rows)} states: {err.strip()[:300]}")
     passed = sum(results)
     print(f"{passed} passed, {len(results) - passed} failed")
     return 0 if results and all(results) else 1

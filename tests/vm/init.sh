@@ -71,6 +71,12 @@ run e_lc infocus analyze libcamera:0 --frames 1 --grid 2x2 --transfer auto
 run f_v4l2 infocus sweep "v4l2:$cap,size=320x180" --steps 3 --refine 0 --grid 2x2 --no-blur --json
 run f_lc infocus sweep libcamera:0 --steps 3 --refine 0 --grid 2x2 --no-blur --json
 
+# g. the live assistant's JSON face for five seconds on each camera (vivid on its webcam input).
+# Small modes: under emulation vimc's 1920x1080 default gives one analysed frame in 1.5 s. vimc
+# takes only widths and heights that are multiples of 6 (its scaler triples the sensor's size).
+run g_v4l2 infocus live "v4l2:$cap,size=320x180" --ui json --seconds 5
+run g_lc infocus live libcamera:0,size=720x480 --ui json --seconds 5
+
 # c. loopback: frames of known blur through vivid's output node into its capture node
 v4l2-ctl -d "$cap" -i 2 -c loop_video=1 --set-fmt-video=width=720,height=480,pixelformat=YUYV,field=interlaced
 v4l2-ctl -d "$out" -o 0 --set-fmt-video-out=width=720,height=480,pixelformat=YUYV,field=interlaced
@@ -101,6 +107,15 @@ rm -rf /tmp/rec_v4l2 /tmp/rec_lc /tmp/rec_faults
 run d_unplug infocus record "v4l2:$cap,size=320x180" -o /tmp/rec_unplug --seconds 12
 wait
 run d_replay infocus analyze /tmp/rec_unplug --grid 2x2
+
+# g. an unplug mid-run ends the live assistant with the reason; sent once it has printed a state,
+# for the same reason as in part d (and last, so no other part sees the disconnected node)
+rm -f /tmp/out
+(for i in $(seq 1 60); do grep -q '^{' /tmp/out 2>/dev/null && break; sleep 1; done
+	v4l2-ctl -d "$cap" -c disconnect=1 2>&1 | sed "s/^/@@diag_gdisc /"
+	echo "@@diag_gdisc sent") &
+run g_unplug infocus live "v4l2:$cap,size=320x180" --ui json --seconds 30
+wait
 
 df -k /tmp | sed "s/^/@@diag /"
 echo "@@done"

@@ -22,10 +22,14 @@ done
 [[ -n "$kver" ]] || die "no /boot/vmlinuz-* with matching linux-headers and modules"
 [[ -r /boot/vmlinuz-$kver ]] || die "/boot/vmlinuz-$kver is not readable"
 
-if [[ ! -x "$build/src/cli/infocus" || ! -x "$build/tests/drivers/infocus_vm_blur_frames" ]]; then
+# The libcamera backend is a module infocus loads on demand; a build without libcamera has none.
+lcmod=drivers/libcamera/infocus-libcamera.so
+if [[ ! -x "$build/src/cli/infocus" || ! -x "$build/tests/drivers/infocus_vm_blur_frames" ||
+	! -f "$build/$lcmod" ]]; then
 	[[ -f "$build/build.ninja" ]] || meson setup "$build" "$root" >&2 || die "meson setup failed"
+	ninja -C "$build" -t query "$lcmod" >/dev/null 2>&1 || lcmod=""
 	ninja -C "$build" -j2 src/cli/infocus tests/drivers/infocus_vm_blur_frames \
-		tests/drivers/test_drivers_v4l2_device >&2 || die "building infocus failed"
+		tests/drivers/test_drivers_v4l2_device $lcmod >&2 || die "building infocus failed"
 fi
 
 work="$build/vm"
@@ -40,10 +44,12 @@ cp /bin/busybox "$rd/bin/busybox"
 for a in sh mount umount insmod sleep echo cat ls kill grep sed head tail wc rm mkdir poweroff \
 	seq cut tr ln sync dmesg; do ln -sf busybox "$rd/bin/$a"; done
 
-copy_with_libs() {  # copies a program and the libraries ldd lists, at the same paths
+copy_with_libs() {  # copies a program (unless it is in the initramfs already) and its libraries
 	local f=$1
-	mkdir -p "$rd$(dirname "$f")"
-	cp -L "$f" "$rd$f"
+	if [[ $f != "$rd"/* ]]; then
+		mkdir -p "$rd$(dirname "$f")"
+		cp -L "$f" "$rd$f"
+	fi
 	ldd "$f" 2>/dev/null | grep -o '/[^ ]*' | while read -r lib; do
 		[[ -e "$rd$lib" ]] && continue
 		mkdir -p "$rd$(dirname "$lib")"
@@ -53,6 +59,12 @@ copy_with_libs() {  # copies a program and the libraries ldd lists, at the same 
 cp "$build/src/cli/infocus" "$rd/bin/infocus.bin"
 copy_with_libs "$rd/bin/infocus.bin"
 strip -s "$rd/bin/infocus.bin" 2>/dev/null
+# infocus looks for its modules beside its executable first; libcamera comes with the module.
+if [[ -f "$build/drivers/libcamera/infocus-libcamera.so" ]]; then
+	cp "$build/drivers/libcamera/infocus-libcamera.so" "$rd/bin/"
+	copy_with_libs "$rd/bin/infocus-libcamera.so"
+	strip -s "$rd/bin/infocus-libcamera.so" 2>/dev/null
+fi
 copy_with_libs "$(command -v v4l2-ctl)"
 [[ -x "$build/tests/drivers/test_drivers_v4l2_device" ]] &&
 	cp "$build/tests/drivers/test_drivers_v4l2_device" "$rd/bin/" && copy_with_libs "$rd/bin/test_drivers_v4l2_device"
