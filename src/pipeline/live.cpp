@@ -451,7 +451,9 @@ private:
                 std::llabs(nowNs - c.frame.timestampNs) < kMonotonicToleranceNs)
                 fromNs = std::min(fromNs, c.frame.timestampNs);
             published.emplace_back(now, (nowNs - fromNs) * 1e-6);
-            while (published.front().first < now - std::chrono::seconds(1))
+            // The last second, but at least the previous frame: a camera slower than one frame a
+            // second still reads its rate.
+            while (published.size() > 2 && published[1].first < now - std::chrono::seconds(1))
                 published.pop_front();
             std::vector<double> latencies;
             for (const auto& p : published)
