@@ -87,17 +87,22 @@ void fillPictures(const Luma8& luma, const LiveOptions& o, PeakingMode mode, Liv
     const int pw = luma.width / f, ph = luma.height / f;
     if (pw < 3 || ph < 3) return;
     auto preview = std::make_shared<Image<uint8_t>>(pw, ph);
-    // A box average: each preview pixel is the mean of the f × f frame pixels it covers.
+    // A box average: each preview pixel is the mean of the f × f frame pixels it covers. The f
+    // rows are summed first, a loop the compiler vectorises, then each f columns of the sums.
     const int area = f * f;
+    std::vector<int> columns(static_cast<size_t>(pw) * f);
     for (int y = 0; y < ph; ++y) {
+        std::fill(columns.begin(), columns.end(), 0);
+        for (int dy = 0; dy < f; ++dy) {
+            const uint8_t* in = luma.row(y * f + dy);
+            for (size_t x = 0; x < columns.size(); ++x)
+                columns[x] += in[x];
+        }
         uint8_t* out = preview->row(y);
         for (int x = 0; x < pw; ++x) {
             int sum = 0;
-            for (int dy = 0; dy < f; ++dy) {
-                const uint8_t* in = luma.row(y * f + dy) + x * f;
-                for (int dx = 0; dx < f; ++dx)
-                    sum += in[dx];
-            }
+            for (int dx = 0; dx < f; ++dx)
+                sum += columns[static_cast<size_t>(x) * f + dx];
             out[x] = static_cast<uint8_t>((sum + area / 2) / area);
         }
     }
