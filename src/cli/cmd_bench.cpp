@@ -294,11 +294,11 @@ Command addBenchCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--live-seconds", args->liveSeconds,
                     "Length of each live pipeline run (0: leave the live rows out)")
-        ->check(CLI::Range(0.0, 3600.0))
+        ->check(CLI::Range(0.0, 3600.0).description("S"))
         ->capture_default_str();
     sub->add_option("--only", args->only, "Run only this family of rows")
         ->check(CLI::IsMember(bench::benchFamilies()))
-        ->type_name("sharpness|mjpeg|blur|live");
+        ->type_name("FAMILY");
     CLI::Option* images =
         sub->add_option(
                "--images", args->images,
