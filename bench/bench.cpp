@@ -6,11 +6,20 @@
 
 namespace infocus::bench {
 
+const std::vector<std::string>& benchFamilies() {
+    static const std::vector<std::string> families{"sharpness", "mjpeg", "blur", "live"};
+    return families;
+}
+
 void runAll(const BenchOptions& options, const RowSink& sink) {
+    const auto wanted = [&](const char* family) {
+        return options.only.empty() || options.only == family;
+    };
     // The registry of benchmarks, in output order.
-    benchSharpness(options, sink);
-    benchMjpeg(options, sink);
-    benchBlur(options, sink);
+    if (wanted("sharpness")) benchSharpness(options, sink);
+    if (wanted("mjpeg")) benchMjpeg(options, sink);
+    if (wanted("blur")) benchBlur(options, sink);
+    if (wanted("live") && options.liveSeconds > 0) benchLive(options, sink);
 }
 
 double medianMs(const std::function<void()>& fn, double budgetS) {

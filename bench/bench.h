@@ -12,6 +12,16 @@
 
 namespace infocus::bench {
 
+/// One run of a recording through the live pipeline (`live` rows), over the whole run.
+struct LiveRun {
+    double fps = 0.0;           ///< frames analysed per second
+    uint64_t frames = 0;        ///< frames analysed
+    uint64_t dropped = 0;       ///< camera gaps plus frames the analysis never took
+    double latencyP50Ms = 0.0;  ///< a frame's due time (capture) to its state seen, median
+    double latencyP99Ms = 0.0;  ///< … 99th percentile
+    double cpuCores = 0.0;      ///< process CPU time over wall time during the run
+};
+
 /// One measured case: infocus's time per frame and, where one applies, the baseline's.
 struct BenchRow {
     std::string what;  ///< "sharpness", "blur", "mjpeg_luma", ...
@@ -26,12 +36,23 @@ struct BenchRow {
     std::string input = {};              ///< rows timed on the user's frames: their source string
     std::optional<int> inputFrame = {};  ///< and which of its frames (0 the first)
     std::optional<int> regionsWithEdge = {};  ///< blur rows: regions whose blur was measured
+    // `live` rows: ms is not set, the runs stand in its place.
+    std::string format = {};                   ///< the recording's pixel format ("YUYV", "MJPEG")
+    std::optional<double> nominalFps = {};     ///< the recording's frame rate
+    std::optional<LiveRun> live = {};          ///< infocus's measurement
+    std::optional<LiveRun> liveBaseline = {};  ///< the baseline's, through the same pipeline
 };
 
 /// Options shared by all benchmarks.
 struct BenchOptions {
     double secondsPerCase = 0.25;  ///< time budget for each timed loop
+    double liveSeconds = 20.0;     ///< length of each live run (0: no live rows)
+    /// Only this family of rows ("sharpness", "mjpeg", "blur", "live"); empty: all.
+    std::string only;
 };
+
+/// The families of rows BenchOptions::only chooses from.
+const std::vector<std::string>& benchFamilies();
 
 /// Receives each row as soon as it is measured.
 using RowSink = std::function<void(const BenchRow&)>;
@@ -53,6 +74,12 @@ void benchSharpness(const BenchOptions& options, const RowSink& sink);
 void benchMjpeg(const BenchOptions& options, const RowSink& sink);
 /// Blur width (measureBlur) for every region of a 16×9 grid on a synthetic 1080p frame.
 void benchBlur(const BenchOptions& options, const RowSink& sink);
+/// Recordings (1080p60 YUYV, 1080p30 MJPEG, 2160p30 YUYV; made in a temporary directory and
+/// removed) replayed at their own pace through the live pipeline for options.liveSeconds each,
+/// beside the same pipeline measuring with an OpenCV composition (liveBaselineName()).
+void benchLive(const BenchOptions& options, const RowSink& sink);
+/// What the live rows' baseline is.
+std::string liveBaselineName();
 
 /// The blur grid (16×9) on each of @p images (8-bit luma, the frames of the source @p input)
 /// scaled to 1920×1080: a row `blur_image` for each, searched from scratch beside the scalar

@@ -9,8 +9,10 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,6 +65,13 @@ struct LiveOptions {
     int previewLongSide = 0;
     /// Circle of confusion in pixels used when no lens data gives one (the heat map's scale).
     double defaultCocPx = 2.0;
+    /// For benchmarks: replaces the sharpness and blur measurement, the rest of the pipeline
+    /// unchanged. Called on the analysis thread with each frame's luma and the regions to score,
+    /// it fills regionScores (one per region): they become the regions' sharpness and, combined
+    /// as usual, the frame's score; no blur is read. Empty: infocus's own measurement.
+    std::function<void(const Luma8& luma, std::span<const Rect> regions,
+                       std::vector<double>& regionScores)>
+        measureOverride;
 };
 
 /// One region of the live state.

@@ -6,6 +6,9 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "bench/bench.h"
 #include "commands.h"
@@ -20,9 +23,11 @@ struct BenchArgs {
     bool json = false;
     bool accuracy = false;
     double seconds = 0.25;
-    bool imagesGiven = false;  ///< --images: time the blur engine on this source's frames instead
-    std::string images;        ///< the source string given to --images
-    uint64_t frames = 32;      ///< at most this many of them (0: all)
+    double liveSeconds = 20.0;  ///< each live run's length (0: no live rows)
+    std::string only;           ///< one family of rows; empty: all
+    bool imagesGiven = false;   ///< --images: time the blur engine on this source's frames instead
+    std::string images;         ///< the source string given to --images
+    uint64_t frames = 32;       ///< at most this many of them (0: all)
 };
 
 // Up to @p maxFrames frames of @p source (0: all) as 8-bit luma, copied out of the source's
@@ -113,12 +118,99 @@ int runAccuracyTable(bool json) {
     return 0;
 }
 
+// A live row's targets: no frame dropped; at 1080p also the latency within one frame interval
+// and at most one of two cores. Each as its text and whether the run met it.
+std::vector<std::pair<std::string, bool>> liveTargets(const bench::BenchRow& row) {
+    const bench::LiveRun& r = *row.live;
+    std::vector<std::pair<std::string, bool>> t{{"0 dropped", r.dropped == 0}};
+    if (row.height <= 1080 && row.nominalFps) {
+        const double intervalMs = 1000.0 / *row.nominalFps;
+        char text[48];
+        std::snprintf(text, sizeof text, "p99 <= %.1f ms", intervalMs);
+        t.emplace_back(text, r.latencyP99Ms <= intervalMs);
+        t.emplace_back("<= 1 core", r.cpuCores <= 1.0);
+    }
+    return t;
+}
+
+nlohmann::ordered_json liveJson(const bench::BenchRow& row) {
+    nlohmann::ordered_json j;
+    j["what"] = row.what;
+    j["width"] = row.width;
+    j["height"] = row.height;
+    j["format"] = row.format;
+    if (row.nominalFps) j["nominal_fps"] = *row.nominalFps;
+    const auto put = [&](const std::string& prefix, const std::optional<bench::LiveRun>& r) {
+        if (!r) return;
+        j[prefix + "fps"] = r->fps;
+        j[prefix + "frames"] = r->frames;
+        j[prefix + "dropped"] = r->dropped;
+        j[prefix + "latency_p50_ms"] = r->latencyP50Ms;
+        j[prefix + "latency_p99_ms"] = r->latencyP99Ms;
+        j[prefix + "cpu_cores"] = r->cpuCores;
+    };
+    put("", row.live);
+    if (row.liveBaseline) j["baseline"] = row.baseline;
+    put("baseline_", row.liveBaseline);
+    if (row.live) {
+        nlohmann::ordered_json targets = nlohmann::ordered_json::array();
+        for (const auto& [text, met] : liveTargets(row))
+            targets.push_back({{"target", text}, {"met", met}});
+        j["targets"] = targets;
+    }
+    if (!row.note.empty()) j["note"] = row.note;
+    return j;
+}
+
+// A live row as text: infocus's run and the baseline's, side by side, then the targets.
+void printLive(const bench::BenchRow& row, bool& headerShown) {
+    if (!headerShown) {
+        headerShown = true;
+        std::printf("\nlive: a recording replayed at its own pace through the live pipeline (%s)\n",
+                    row.note.c_str());
+        std::printf("%-17s %11s %-6s %5s  %-8s %7s %7s %7s %7s %7s %6s  %s\n", "what", "size",
+                    "format", "fps", "who", "fps", "frames", "dropped", "p50 ms", "p99 ms", "cores",
+                    "targets");
+    }
+    char size[32];
+    std::snprintf(size, sizeof size, "%dx%d", row.width, row.height);
+    const auto line = [](const char* who, const bench::LiveRun& r) {
+        std::printf("%-8s %7.2f %7llu %7llu %7.2f %7.2f %6.2f", who, r.fps,
+                    static_cast<unsigned long long>(r.frames),
+                    static_cast<unsigned long long>(r.dropped), r.latencyP50Ms, r.latencyP99Ms,
+                    r.cpuCores);
+    };
+    std::printf("%-17s %11s %-6s %5.0f  ", row.what.c_str(), size, row.format.c_str(),
+                row.nominalFps.value_or(0.0));
+    if (!row.live) {
+        std::printf("%s\n", row.note.c_str());
+        return;
+    }
+    line("infocus", *row.live);
+    std::printf(" ");
+    const auto targets = liveTargets(row);
+    for (size_t i = 0; i < targets.size(); ++i)
+        std::printf("%s %s %s", i ? "," : "", targets[i].first.c_str(),
+                    targets[i].second ? "ok" : "missed");
+    std::printf("\n");
+    if (row.liveBaseline) {
+        std::printf("%-17s %11s %-6s %5s  ", "", "", "", "");
+        line("baseline", *row.liveBaseline);
+        std::printf("  %s\n", row.baseline.c_str());
+    }
+    std::fflush(stdout);
+}
+
 int runBench(const BenchArgs& args) {
     if (args.accuracy && args.imagesGiven)
         return usageError("bench", "--accuracy and --images each choose what to run; give one");
     if (args.accuracy) return runAccuracyTable(args.json);
+    if (!args.only.empty() && args.imagesGiven)
+        return usageError("bench", "--only and --images each choose what to run; give one");
     bench::BenchOptions options;
     options.secondsPerCase = args.seconds;
+    options.liveSeconds = args.liveSeconds;
+    options.only = args.only;
     std::vector<Image<uint8_t>> frames;
     uint64_t damaged = 0;
     if (args.imagesGiven) {
@@ -126,10 +218,18 @@ int runBench(const BenchArgs& args) {
         if (!read) return reportError("bench", read.error());
         frames = std::move(*read);
     }
-    if (!args.json)
+    if (!args.json && args.only != "live")
         std::printf("%-17s %11s %12s %12s %9s  %s\n", "what", "size", "infocus ms", "baseline ms",
                     "speedup", "baseline");
+    bool liveHeader = false;
     const auto print = [&](const bench::BenchRow& row) {
+        if (row.what == "live") {
+            if (args.json)
+                std::cout << liveJson(row).dump() << std::endl;
+            else
+                printLive(row, liveHeader);
+            return;
+        }
         if (args.json) {
             nlohmann::ordered_json j;
             j["what"] = row.what;
@@ -192,6 +292,13 @@ Command addBenchCommand(CLI::App& app) {
     sub->add_option("--seconds", args->seconds, "Time budget per measured case")
         ->check(secondsIn(0.0, 10.0, "0.5"))
         ->capture_default_str();
+    sub->add_option("--live-seconds", args->liveSeconds,
+                    "Length of each live pipeline run (0: leave the live rows out)")
+        ->check(CLI::Range(0.0, 3600.0).description("S"))
+        ->capture_default_str();
+    sub->add_option("--only", args->only, "Run only this family of rows")
+        ->check(CLI::IsMember(bench::benchFamilies()))
+        ->type_name("FAMILY");
     CLI::Option* images =
         sub->add_option(
                "--images", args->images,

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "infocus/live.h"
+#include "infocus/luma.h"
 #include "infocus/metrics.h"
 #include "infocus/sweep.h"
 #include "live_meter.h"
@@ -384,7 +385,8 @@ private:
             if (reset) meter_.resetPeak();
 
             Luma8 luma;
-            auto a = analyzer_->analyze(c.frame, index, luma);
+            auto a = options_.measureOverride ? measureWithOverride(c.frame, index, luma)
+                                              : analyzer_->analyze(c.frame, index, luma);
             if (!a) {
                 std::lock_guard lock(mutex_);
                 status_ = a.error().message;
@@ -401,7 +403,8 @@ private:
             s->metric = a->metric;
 
             double score = a->frameSharpness;
-            if (roi && roi->x + roi->w <= luma.width && roi->y + roi->h <= luma.height) {
+            if (roi && !options_.measureOverride && roi->x + roi->w <= luma.width &&
+                roi->y + roi->h <= luma.height) {
                 SharpnessParams params;
                 if (auto op = parseOperator(a->metric)) params.op = *op;
                 params.noiseSigma = analyzer_->lastNoiseSigma();
@@ -477,6 +480,38 @@ private:
         cv_.notify_all();
     }
 
+    // LiveOptions::measureOverride in the Analyzer's place: the same luma, the override's
+    // scores for the same regions, combined into the frame's score as the Analyzer does.
+    Result<FrameAnalysis> measureWithOverride(const Frame& frame, uint64_t index, Luma8& luma) {
+        auto converted = converter_.toLuma8(frame);
+        if (!converted) return converted.error();
+        luma = *converted;
+        const AnalysisOptions& o = options_.analysis;
+        const bool grid = o.rois.empty();
+        const std::vector<Rect> rects =
+            grid ? gridRegions(luma.width, luma.height, o.cols, o.rows) : o.rois;
+        std::vector<double> scores(rects.size(), 0.0);
+        options_.measureOverride(luma, rects, scores);
+        scores.resize(rects.size(), 0.0);
+        FrameAnalysis a;
+        a.frame = index;
+        a.timestampNs = frame.timestampNs;
+        a.lens = frame.lens;
+        a.width = luma.width;
+        a.height = luma.height;
+        a.metric = "custom";
+        for (size_t i = 0; i < rects.size(); ++i) {
+            RegionResult r;
+            r.col = grid ? static_cast<int>(i) % o.cols : static_cast<int>(i);
+            r.row = grid ? static_cast<int>(i) / o.cols : 0;
+            r.rect = rects[i];
+            r.sharpness = scores[i];
+            a.regions.push_back(r);
+        }
+        a.frameSharpness = combineScores(rects, scores, luma.width, luma.height, o.centreWeighted);
+        return a;
+    }
+
     void autofocusLoop() {
         AutofocusSource af(*this);
         SweepOptions o;
@@ -512,6 +547,7 @@ private:
     LiveOptions options_;
     SourceInfo info_;
     std::unique_ptr<Analyzer> analyzer_;
+    LumaConverter converter_;  // LiveOptions::measureOverride only
     live_detail::Meter meter_;
     FocusControl* control_ = nullptr;
     FocusRange range_;

@@ -5,7 +5,8 @@
 # Usage: test_bench.sh PATH_TO_INFOCUS
 set -u
 bin=${1:?path to infocus}
-out=$("$bin" bench --json --seconds 0.01)
+# The live rows run 0.5 s each here (20 s by default): enough to check their fields.
+out=$("$bin" bench --json --seconds 0.01 --live-seconds 0.5)
 st=$?
 [[ $st -eq 0 ]] || {
 	echo "FAIL: infocus bench --json exited $st"
@@ -15,6 +16,19 @@ echo "$out"
 python3 - "$out" <<'PY'
 import json, sys
 rows = [json.loads(line) for line in sys.argv[1].strip().split("\n")]
+# The live rows: each case replayed through the live pipeline, infocus beside the baseline.
+live = [r for r in rows if r["what"] == "live"]
+cases = sorted((r["width"], r["height"], r["format"], r["nominal_fps"]) for r in live)
+assert cases == [(1920, 1080, "MJPEG", 30), (1920, 1080, "YUYV", 60), (3840, 2160, "YUYV", 30)], cases
+for r in live:
+    assert r.get("baseline"), r
+    for p in ("", "baseline_"):
+        for k in ("fps", "frames", "dropped", "latency_p50_ms", "latency_p99_ms", "cpu_cores"):
+            assert p + k in r, (p + k, r)
+        assert r[p + "frames"] > 0 and r[p + "fps"] > 0 and r[p + "cpu_cores"] > 0, r
+        assert 0 < r[p + "latency_p50_ms"] <= r[p + "latency_p99_ms"], r
+    assert r["targets"] and all(isinstance(t["met"], bool) for t in r["targets"]), r
+rows = [r for r in rows if r["what"] != "live"]
 for r in rows:
     for k in ("what", "width", "height", "ms"):
         assert k in r, (k, r)

@@ -1,0 +1,280 @@
+// SPDX-License-Identifier: MIT
+// The live pipeline end to end: a recording replayed at its own pace (`DIR,pace=original,loop=1`)
+// through LivePipeline as `infocus live` runs it, beside the same pipeline with an OpenCV
+// composition in place of infocus's measurement (LiveOptions::measureOverride).
+#include <stdlib.h>
+#include <sys/resource.h>
+#include <turbojpeg.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+
+#include "bench/bench.h"
+#include "infocus/frame.h"
+#include "infocus/live.h"
+#include "infocus/recording.h"
+#include "infocus/synth.h"
+
+namespace infocus::bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using MeasureFn = decltype(LiveOptions::measureOverride);
+
+// The first frame's timestamp in the recordings: far from CLOCK_MONOTONIC's present, so the
+// pipeline counts latency from each frame's arrival, as it does for any recording.
+constexpr int64_t kFirstTimestampNs = 1'000'000'000;
+// The peaking mask's share of edge pixels left unmarked, as the live view's percentile peaking.
+constexpr double kPeakingPercentile = 0.97;
+// The preview a face showing the picture asks for (the web view's and the window's size).
+constexpr int kPreviewLongSide = 640;
+// A run lasts its seconds and until this many states were seen, but no more than kMaxExtraS
+// seconds longer.
+constexpr size_t kMinStates = 3;
+constexpr double kMaxExtraS = 30.0;
+
+struct LiveCase {
+    int width, height;
+    double fps;
+    PixelFormat format;
+};
+
+// A natural-like texture (dead leaves) with a few slanted squares, @p panPx wider than the frame
+// so each frame can show it moved by a pixel: frames differ as a camera's do, and the blur
+// tracker has edges to follow. Blurred by a 3 px disc (near focus), 1 grey level of noise.
+Image<uint8_t> makeScene(int w, int h) {
+    synth::SharpCanvas canvas = synth::makeCanvas(w, h, 1);
+    synth::paintDeadLeaves(canvas, 2024, 4.0, 120.0 * h / 1080.0);
+    for (int i = 0; i < 12; ++i)
+        synth::paint(canvas,
+                     synth::squareScene(w * (0.1 + 0.07 * i), h * (0.2 + 0.12 * (i % 5)),
+                                        90.0 * h / 1080.0, 5.0 + 7.0 * i, i % 2 ? 30.0f : 220.0f));
+    return synth::toLuma8(synth::renderSharp(canvas, {synth::Psf::disc(3.0), 1, 1.0, 7}).pixels);
+}
+
+// Frame @p i: the scene's columns x0..x0+w-1, as YUYV (neutral chroma) or as a 4:2:2 q85 JPEG
+// of the same picture, as a webcam sends.
+Result<Frame> makeFrame(const Image<uint8_t>& scene, int x0, const LiveCase& c, tjhandle tj) {
+    const Size size{c.width, c.height};
+    if (c.format == PixelFormat::MJPEG) {
+        const cv::Mat grey(c.height, c.width, CV_8U, const_cast<uint8_t*>(scene.row(0) + x0),
+                           static_cast<size_t>(scene.width()));
+        cv::Mat bgr;
+        cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+        unsigned char* out = nullptr;
+        unsigned long bytes = 0;
+        if (tjCompress2(tj, bgr.data, c.width, static_cast<int>(bgr.step), c.height, TJPF_BGR, &out,
+                        &bytes, TJSAMP_422, 85, 0) != 0)
+            return makeError(ErrorKind::Io, std::string("JPEG encoding of a bench frame failed: ") +
+                                                tjGetErrorStr2(tj));
+        Frame f = makeCompressedFrame(PixelFormat::MJPEG, size, out, bytes);
+        tjFree(out);
+        return f;
+    }
+    auto frame = allocateFrame(PixelFormat::YUYV, size);
+    if (!frame) return frame.error();
+    for (int y = 0; y < c.height; ++y) {
+        const uint8_t* in = scene.row(y) + x0;
+        uint8_t* out = mutablePlane(*frame, 0) + y * frame->planes[0].stride;
+        for (int x = 0; x < c.width; ++x) {
+            out[2 * x] = in[x];
+            out[2 * x + 1] = 128;
+        }
+    }
+    return frame;
+}
+
+// Writes one second of @p c (one frame a pixel further along the pan, timestamps at the
+// nominal interval, sequence numbers consecutive), or @p seconds when shorter, into @p dir.
+Status writeRecording(const std::string& dir, const LiveCase& c, double seconds) {
+    const int n = std::max(2, static_cast<int>(c.fps * std::min(1.0, seconds)));
+    const int64_t intervalNs = static_cast<int64_t>(1e9 / c.fps + 0.5);
+    const Image<uint8_t> scene = makeScene(c.width + n, c.height);
+    SourceInfo info;
+    info.sourceString = "infocus bench";
+    info.driver = "bench";
+    info.format = c.format;
+    info.size = {c.width, c.height};
+    info.fps = c.fps;
+    auto writer = RecordingWriter::create(dir, makeRecordingHeader(info, nullptr));
+    if (!writer) return writer.error();
+    tjhandle tj = tjInitCompress();
+    Status st;
+    for (int i = 0; i < n && st; ++i) {
+        auto frame = makeFrame(scene, i, c, tj);
+        if (!frame) {
+            st = frame.error();
+            break;
+        }
+        frame->timestampNs = kFirstTimestampNs + i * intervalNs;
+        frame->sequence = static_cast<uint64_t>(i);
+        st = (*writer)->append(*frame);
+    }
+    tjDestroy(tj);
+    if (!st) return st;
+    return (*writer)->close();
+}
+
+double cpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-6;
+}
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    const auto k = std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())));
+    std::nth_element(v.begin(), v.begin() + static_cast<ptrdiff_t>(k), v.end());
+    return v[k];
+}
+
+// The OpenCV composition a focus tool would write: Laplacian variance per region
+// (cv::Laplacian + cv::meanStdDev) and a peaking mask from the Sobel gradient's strongest
+// edges, on the luma the pipeline hands over. Its buffers live as long as the pipeline.
+MeasureFn opencvMeasure() {
+    struct Buffers {
+        cv::Mat lap, dx, dy, ax, ay, mag, mask;
+    };
+    auto b = std::make_shared<Buffers>();
+    return [b](const Luma8& luma, std::span<const Rect> regions, std::vector<double>& scores) {
+        const cv::Mat grey(luma.height, luma.width, CV_8U, const_cast<uint8_t*>(luma.data),
+                           static_cast<size_t>(luma.stride));
+        cv::Laplacian(grey, b->lap, CV_16S);
+        for (size_t i = 0; i < regions.size(); ++i) {
+            const Rect& r = regions[i];
+            cv::Scalar mean, stddev;
+            cv::meanStdDev(b->lap(cv::Rect(r.x, r.y, r.w, r.h)), mean, stddev);
+            scores[i] = stddev[0] * stddev[0];
+        }
+        cv::Sobel(grey, b->dx, CV_16S, 1, 0);
+        cv::Sobel(grey, b->dy, CV_16S, 0, 1);
+        cv::convertScaleAbs(b->dx, b->ax);
+        cv::convertScaleAbs(b->dy, b->ay);
+        cv::add(b->ax, b->ay, b->mag);
+        const int bins = 256;
+        const float range[] = {0, 256};
+        const float* ranges[] = {range};
+        cv::Mat hist;
+        cv::calcHist(&b->mag, 1, nullptr, cv::Mat(), hist, 1, &bins, ranges);
+        const double wanted = kPeakingPercentile * static_cast<double>(b->mag.total());
+        double seen = 0;
+        int level = 0;
+        while (level < 255 && (seen += hist.at<float>(level)) < wanted)
+            ++level;
+        cv::threshold(b->mag, b->mask, level, 255, cv::THRESH_BINARY);
+    };
+}
+
+// Replays @p dir through the live pipeline for @p seconds and watches every state.
+Result<LiveRun> runLive(const std::string& dir, double seconds, MeasureFn measure) {
+    LiveOptions options;
+    options.peaking = PeakingMode::Percentile;
+    options.peakingPercentile = kPeakingPercentile;
+    options.previewLongSide = kPreviewLongSide;
+    options.measureOverride = std::move(measure);
+    auto pipeline = LivePipeline::open(dir + ",pace=original,loop=1", options);
+    if (!pipeline) return pipeline.error();
+    LivePipeline& p = **pipeline;
+
+    const double cpu0 = cpuSeconds();
+    // The source's clock starts inside start(): each frame is due at start + (its timestamp −
+    // the first's), and a camera would have captured it then.
+    const auto t0 = Clock::now();
+    if (Status st = p.start(); !st) return st.error();
+    std::vector<double> latencies;
+    std::shared_ptr<const LiveState> last;
+    // A short run on a busy machine still waits for a few states, within a bound.
+    const auto enough = [&] {
+        const auto ran = Clock::now() - t0;
+        return (ran >= std::chrono::duration<double>(seconds) && latencies.size() >= kMinStates) ||
+               ran >= std::chrono::duration<double>(seconds + kMaxExtraS);
+    };
+    while (!enough()) {
+        auto s = p.waitForState(last ? std::optional<uint64_t>(last->frame) : std::nullopt,
+                                std::chrono::milliseconds(500));
+        const auto now = Clock::now();
+        if (!s) {
+            if (p.ended()) break;
+            continue;
+        }
+        const auto due = t0 + std::chrono::nanoseconds(s->timestampNs - kFirstTimestampNs);
+        latencies.push_back(std::chrono::duration<double, std::milli>(now - due).count());
+        last = std::move(s);
+    }
+    const auto tEnd = Clock::now();
+    p.stop();
+    const auto t1 = Clock::now();
+    const double cpu1 = cpuSeconds();
+    if (!last) {
+        Status end = p.endStatus();
+        if (!end) return end.error();
+        return makeError(ErrorKind::Io, "the live pipeline analysed no frame of " + dir);
+    }
+    LiveRun run;
+    run.frames = last->frame + 1;
+    run.fps = static_cast<double>(run.frames) / std::chrono::duration<double>(tEnd - t0).count();
+    run.dropped = last->dropped + last->skipped;
+    run.latencyP50Ms = percentile(latencies, 0.5);
+    run.latencyP99Ms = percentile(latencies, 0.99);
+    run.cpuCores = (cpu1 - cpu0) / std::chrono::duration<double>(t1 - t0).count();
+    return run;
+}
+
+}  // namespace
+
+std::string liveBaselineName() {
+    return "the same pipeline, cv::Laplacian + cv::meanStdDev per region and a cv::Sobel peaking "
+           "mask";
+}
+
+void benchLive(const BenchOptions& options, const RowSink& sink) {
+    const LiveCase cases[] = {
+        {1920, 1080, 60.0, PixelFormat::YUYV},
+        {1920, 1080, 30.0, PixelFormat::MJPEG},
+        {3840, 2160, 30.0, PixelFormat::YUYV},
+    };
+    namespace fs = std::filesystem;
+    for (const LiveCase& c : cases) {
+        BenchRow row{"live", c.width, c.height, 0.0, std::nullopt, liveBaselineName(), ""};
+        row.format = c.format == PixelFormat::MJPEG ? "MJPEG" : "YUYV";
+        row.nominalFps = c.fps;
+        std::string tmpl = (fs::temp_directory_path() / "infocus-bench-live-XXXXXX").string();
+        if (!mkdtemp(tmpl.data())) {
+            row.note =
+                "could not make a temporary directory in " + fs::temp_directory_path().string();
+            sink(row);
+            continue;
+        }
+        const std::string dir = tmpl;
+        const std::string rec = dir + "/rec";
+        std::string failed;
+        if (Status st = writeRecording(rec, c, options.liveSeconds); !st) {
+            failed = "recording: " + st.error().message;
+        } else {
+            auto ours = runLive(rec, options.liveSeconds, {});
+            auto base = runLive(rec, options.liveSeconds, opencvMeasure());
+            if (ours) row.live = *ours;
+            if (base) row.liveBaseline = *base;
+            if (!ours) failed = ours.error().message;
+            if (!base) failed = base.error().message;
+        }
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+        char note[160];
+        std::snprintf(note, sizeof note,
+                      "%g s each, 16x9 grid, percentile peaking, %d px preview; latency from "
+                      "a frame's due time to its state",
+                      options.liveSeconds, kPreviewLongSide);
+        row.note = failed.empty() ? note : "failed: " + failed;
+        sink(row);
+    }
+}
+
+}  // namespace infocus::bench
