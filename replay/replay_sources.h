@@ -5,7 +5,6 @@
 #pragma once
 
 #include <memory>
-#include <vector>
 
 #include "infocus/error.h"
 #include "infocus/source.h"
@@ -15,13 +14,9 @@ namespace infocus::replay {
 /// Opens a path source: a recording directory (with header.json), a `.y4m` file, an image file,
 /// a directory or glob of images (name order), or a video file OpenCV can read. Playback options
 /// as in playback.h. NotFound when nothing exists at the path, Unsupported when the file is of
-/// no readable kind, Corrupt when it is damaged beyond its first frame.
+/// no readable kind or its decoder module (images other than JPEG, video) cannot be loaded,
+/// Corrupt when it is damaged beyond its first frame.
 Result<std::unique_ptr<FrameSource>> openPathSource(const SourceSpec& spec);
-
-/// OpenCV's capture backends (cv::VideoCaptureAPIs) a video file is offered to, in order: those
-/// of this build that read files, FFmpeg first. Never a camera backend (V4L2, gphoto2), which
-/// would take the path for a device.
-std::vector<int> videoFileBackends();
 
 /// Opens the simulated camera `sim:` with the options of include/infocus/sim.h.
 Result<std::unique_ptr<FrameSource>> openSimSource(const SourceSpec& spec);

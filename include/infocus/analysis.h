@@ -103,6 +103,10 @@ public:
     /// converted to luma (damaged data, unknown format) or an ROI lies outside it.
     Result<FrameAnalysis> analyze(const Frame& frame, uint64_t index);
 
+    /// As analyze(), and hands back the frame's 8-bit luma in @p luma (valid until the next call)
+    /// for a caller that draws from it too.
+    Result<FrameAnalysis> analyze(const Frame& frame, uint64_t index, Luma8& luma);
+
     /// White-noise σ (grey levels) estimated on the last frame and removed from the scores.
     double lastNoiseSigma() const;
 

@@ -128,8 +128,8 @@ struct LiveState {
     int regionsInCoc = 0;                 ///< regions whose blur is within the circle of confusion
     int regionsWithBlur = 0;              ///< regions with a usable blur reading
     std::optional<double> dofNearM, dofFarM;  ///< depth of field at the focus (far: ∞ = inf)
-    std::optional<ImageSegment> inFocusLine;  ///< where the fitted blur plane vanishes
-    std::optional<double> tiltDeg;            ///< angle of the scene plane to the focus plane
+    std::optional<optics::ImageSegment> inFocusLine;  ///< where the fitted blur plane vanishes
+    std::optional<double> tiltDeg;  ///< angle of the scene plane to the focus plane
 
     // The lens.
     std::optional<LensPosition> lens;        ///< position (native, and dioptres where known)

@@ -69,6 +69,7 @@ Command addBenchCommand(CLI::App& app);
 Command addDevicesCommand(CLI::App& app);
 Command addDofCommand(CLI::App& app);
 Command addDepthCommand(CLI::App& app);
+Command addLiveCommand(CLI::App& app);
 Command addRecordCommand(CLI::App& app);
 Command addReportCommand(CLI::App& app);
 Command addSweepCommand(CLI::App& app);

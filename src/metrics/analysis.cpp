@@ -53,9 +53,15 @@ double Analyzer::lastNoiseSigma() const {
 }
 
 Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
-    auto luma = impl_->converter.toLuma8(frame);
-    if (!luma) return luma.error();
-    const Luma8& img = *luma;
+    Luma8 luma;
+    return analyze(frame, index, luma);
+}
+
+Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma8& luma) {
+    auto converted = impl_->converter.toLuma8(frame);
+    if (!converted) return converted.error();
+    luma = std::move(*converted);
+    const Luma8& img = luma;
     const AnalysisOptions& o = impl_->options;
 
     FrameAnalysis a;

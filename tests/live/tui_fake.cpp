@@ -8,11 +8,9 @@
 #include <cstdlib>
 #include <mutex>
 
-#include "infocus/tui.h"
+#include "src/live/tui/tui.h"
 
 namespace infocus {
-
-LivePipeline::~LivePipeline() = default;
 
 namespace {
 
@@ -116,7 +114,7 @@ public:
         s->dofNearM = 1.0 / (lensD_ + 0.07);
         s->dofFarM = lensD_ > 0.07 ? 1.0 / (lensD_ - 0.07) : INFINITY;
         s->tiltDeg = 3.2;
-        s->inFocusLine = ImageSegment{960, 0, 980, 1080};
+        s->inFocusLine = optics::ImageSegment{960, 0, 980, 1080};
         s->lens = LensPosition{lensD_, "dioptre", lensD_};
         s->inFocusDistanceM = lensD_ > 0 ? 1.0 / lensD_ : INFINITY;
         s->hasFocusControl = true;

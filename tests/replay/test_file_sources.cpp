@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // File sources: Y4M in every colour space (luma delivered), images (JPEG as the file's bytes in an
 // MJPEG frame, 8- and 16-bit PNG as GREY/Y16), directories and globs in name order, video files
-// through OpenCV, and clear errors for unreadable or missing files.
+// through OpenCV (the decoder module, loaded on demand), and clear errors for unreadable or missing
+// files and a missing module.
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -13,7 +14,9 @@
 #include <vector>
 
 #include "infocus/source.h"
+#include "replay/decoders/decoders.h"
 #include "replay/replay_sources.h"
+#include "src/core/module_loader.h"
 #include "tests/common/scratch_dir.h"
 
 using namespace infocus;
@@ -358,4 +361,30 @@ TEST_CASE("a video file is offered to OpenCV's file backends only, FFmpeg first"
         CHECK(api != cv::CAP_FIREWIRE);
         CHECK(api != cv::CAP_UEYE);
     }
+}
+
+TEST_CASE("a missing module is named, with where it was looked for and what to do") {
+    const test::ScratchDir scratch("infocus-test-modules-");
+    const std::string dir = scratch.file("modules");
+    auto entry = loadModuleEntry(replay::kDecodersModule, replay::kDecodersEntry,
+                                 "reading video files", {dir, "/nonexistent"});
+    REQUIRE(!entry.ok());
+    CHECK(entry.error().kind == ErrorKind::Unsupported);
+    const std::string& m = entry.error().message;
+    CHECK_THAT(m, Catch::StartsWith("reading video files needs the module infocus-decoders.so"));
+    CHECK_THAT(m, Catch::Contains(dir + ", /nonexistent"));
+    CHECK_THAT(m, Catch::Contains("reinstall infocus, or set INFOCUS_MODULE_DIR"));
+
+    // A file of that name that is no shared object: the loader's reason is given.
+    std::ofstream(scratch.file(replay::kDecodersModule)) << "not a shared object";
+    auto bad = loadModuleEntry(replay::kDecodersModule, replay::kDecodersEntry,
+                               "reading video files", {scratch.path()});
+    REQUIRE(!bad.ok());
+    CHECK_THAT(bad.error().message, Catch::Contains("cannot be loaded"));
+}
+
+TEST_CASE("the build tree's decoder module is found and is of this version") {
+    auto decoders = replay::loadDecoders("reading video files");
+    REQUIRE(decoders.ok());
+    CHECK((*decoders)->abi == replay::kDecodersAbi);
 }

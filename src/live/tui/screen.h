@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "infocus/tui.h"
+#include "src/live/tui/tui.h"
 
 namespace infocus::tui {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "infocus/tui.h"
+#include "src/live/tui/tui.h"
 
 #include <curses.h>
 #include <unistd.h>

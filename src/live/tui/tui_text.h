@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "infocus/tui.h"
+#include "src/live/tui/tui.h"
 
 namespace infocus::tui {
 

@@ -1,12 +1,17 @@
 // SPDX-License-Identifier: MIT
-// Internal: the pixel kernels of the blur-width engine (blur.cpp), a generic reference and an
-// AVX2 version of each with the same results, chosen in blur.cpp after a run-time CPU check.
+// Internal: the pixel kernels of the blur-width engine, a generic reference (kernels_generic.cpp)
+// and an AVX2 version of each with the same results (kernels_avx2.cpp), chosen in one place
+// (chooseKernels) after a run-time CPU check.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 
-namespace infocus::detail {
+namespace infocus {
+
+struct BlurOptions;
+
+namespace detail {
 
 /// The 3×3 Sobel gradient (×8 grey levels per pixel) of the @p count pixels x0, x0 + step, … of
 /// the row whose rows above, at and below are @p above, @p mid, @p below (x0 ≥ 1), and its square
@@ -91,7 +96,7 @@ struct GeometrySpan {
     float u0, t0;
 };
 
-/// An oriented patch solved for x, row by row (patchSpans in blur.cpp): each of the two slabs
+/// An oriented patch solved for x, row by row (patchSpans in geometry.cpp): each of the two slabs
 /// |(x − cx)·a + dy·coef| ≤ h bounds x to cx + slope·dy ± half, or, when a = 0 (open), bounds
 /// the rows instead: |c·dy| ≤ h.
 struct PatchSlab {
@@ -263,4 +268,29 @@ void esfRowsGeneric(const GeometrySpan* spans, int count, int width, const EsfPa
 /// esfRowsGeneric with AVX2 (check haveAvx2() first): the same sums in bins 0..bins − 1.
 void esfRowsAvx2(const GeometrySpan* spans, int count, int width, const EsfPatch& e, uint32_t* acc);
 
-}  // namespace infocus::detail
+/// The pixel kernels the engine calls: AVX2 when the CPU has it and the options allow, else the
+/// generic reference.
+struct Kernels {
+    decltype(&sobelGridRowGeneric) sobelGridRow;
+    decltype(&geometryRowsGeneric) geometryRows;
+    decltype(&esfRowsGeneric) esfRows;
+    decltype(&geometryReduceGeneric) geometryReduce;
+    decltype(&countAtLeastGeneric) countAtLeast;
+    decltype(&listAtLeastGeneric) listAtLeast;
+    decltype(&listLevelsAtLeastGeneric) listLevelsAtLeast;
+    decltype(&levelsGeneric) levels;
+    decltype(&countLevelsAtLeastGeneric) countLevelsAtLeast;
+    decltype(&oneSidedSumsGeneric) oneSidedSums;
+    decltype(&patchRowsGeneric) patchRows;
+    decltype(&esfBinsGeneric) esfBins;
+    decltype(&pairTermsGeneric) pairTerms;
+    decltype(&orderKeysGeneric) orderKeys;
+};
+
+/// The kernels for options @p o (BlurOptions::simd) on this CPU: the one place that chooses
+/// between the AVX2 and the generic kernels.
+Kernels chooseKernels(const BlurOptions& o);
+
+}  // namespace detail
+
+}  // namespace infocus

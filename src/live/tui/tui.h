@@ -9,10 +9,6 @@
 #include <optional>
 
 #include "infocus/error.h"
-#include "infocus/plane_fit.h"
-namespace infocus {
-using optics::ImageSegment;  // live.h names it without its namespace
-}  // namespace infocus
 #include "infocus/live.h"
 
 namespace infocus {
@@ -27,14 +23,11 @@ struct TuiOptions {
     const std::atomic<bool>* stop = nullptr;
 };
 
-/// Whether this build has the terminal face (ncursesw was found at build time).
-bool tuiAvailable();
-
 /// Shows @p pipeline on the terminal until `q`, SIGINT/SIGTERM, @p options' limits, @p stop, or
 /// the pipeline's end, and restores the terminal on every way out. The caller starts and stops
 /// the pipeline. Returns the pipeline's endStatus() when it ended; ErrorKind::Unsupported when
-/// stdin/stdout is not a terminal, the terminal is smaller than 80×24 columns×lines at start, or
-/// the build has no terminal face.
+/// stdin or stdout is not a terminal or TERM names none ncurses knows. A terminal smaller than
+/// 80×24 shows what fits and says so.
 Status runTui(LivePipeline& pipeline, const TuiOptions& options);
 
 }  // namespace infocus

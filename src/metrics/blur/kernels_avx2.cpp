@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // AVX2 pixel kernels of the blur-width engine: the same arithmetic as the generic versions in
-// blur.cpp, 8 or 16 pixels at a time. This file alone is compiled with -mavx2; blur.cpp calls it
-// only after a run-time CPU check.
+// kernels_generic.cpp, 8 or 16 pixels at a time. This file alone is compiled with -mavx2;
+// chooseKernels hands it out only after a run-time CPU check.
 #include <immintrin.h>
 
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include <cstring>
 #include <vector>
 
-#include "blur_kernels.h"
+#include "kernels.h"
 
 namespace infocus::detail {
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Internal: the sharpness kernels behind metrics.h, chosen in one place (sharpness.cpp).
+// Internal: the sharpness kernels behind metrics.h, a generic reference (kernels_generic.cpp) and
+// AVX2 versions (kernels_avx2.cpp, dct_avx2.cpp), chosen in one place (sharpness.cpp).
 #pragma once
 
 #include <cstdint>
@@ -10,11 +11,23 @@
 
 namespace infocus::detail {
 
+/// Pixels this far from the image border lack the operator's neighbourhood and are skipped.
+inline int margin(FocusOperator op) {
+    return op == FocusOperator::Brenner ? 2 : 1;
+}
+
+/// The valid pixels of a region: inside the image less the operator's margin @p m.
+inline Rect validArea(const Luma8& img, const Rect& r, int m) {
+    return intersect(r, {m, m, img.width - 2 * m, img.height - 2 * m});
+}
+
+/// The resolution scale of @p img: its width over the reference width the scores are set at.
+inline double scaleOf(const Luma8& img) {
+    return img.width / kReferenceWidthPx;
+}
+
 /// Reference implementation of every operator: clear loops, double accumulators.
 double genericSharpness(const Luma8& img, const Rect& region, FocusOperator op, double noiseSigma);
-
-/// True when this CPU runs the AVX2 kernels (AVX2 and FMA).
-bool haveAvx2();
 
 /// The sums an operator's score is made of, over the n valid pixels of a region: Σ I, and the
 /// operator's own sums. LAPV: Σ L, Σ L²; LAPM: Σ (|∂²I/∂x²| + |∂²I/∂y²|); TENG and TENV: Σ G,

@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+// Image files other than JPEG, decoded by OpenCV's imgcodecs as GREY or, 16-bit, Y16. Part of
+// the decoder module.
+#include <cstring>
+#include <opencv2/imgcodecs.hpp>
+
+#include "replay/decoders/decoders.h"
+
+namespace infocus::replay {
+
+Result<Frame> decodeImage(const std::vector<uint8_t>& bytes, const std::string& path) {
+    // A file that cannot be decoded: @p what is wrong with it, and what to do.
+    const auto damaged = [&](const std::string& what) {
+        return makeError(ErrorKind::Corrupt,
+                         "image " + path + " " + what + "; copy or export it again");
+    };
+    cv::Mat m;
+    try {
+        m = cv::imdecode(bytes, cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
+    } catch (const cv::Exception&) {
+        // OpenCV's message is a source location and an assertion: name the file instead.
+        return damaged("cannot be decoded: OpenCV rejects it as damaged");
+    }
+    if (m.empty())
+        return makeError(
+            ErrorKind::Corrupt,
+            "image " + path +
+                " cannot be decoded: not an image format OpenCV reads, or damaged; give a JPEG, "
+                "PNG, TIFF or another format OpenCV reads");
+    PixelFormat format;
+    if (m.depth() == CV_8U) {
+        format = PixelFormat::GREY;
+    } else if (m.depth() == CV_16U) {
+        format = PixelFormat::Y16;
+    } else {
+        return makeError(ErrorKind::Unsupported,
+                         "image " + path +
+                             " has samples that are neither 8- nor 16-bit integers; "
+                             "convert it to 8- or 16-bit PNG or TIFF");
+    }
+    auto frame = allocateFrame(format, {m.cols, m.rows});
+    if (!frame) return frame.error();
+    const size_t rowBytes = m.cols * m.elemSize();
+    for (int y = 0; y < m.rows; ++y)
+        std::memcpy(mutablePlane(*frame, 0) + y * frame->planes[0].stride, m.ptr(y), rowBytes);
+    frame->origin = path;
+    return frame;
+}
+
+}  // namespace infocus::replay

@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: MIT
+// The path source: which reader a path is for (a recording directory, a Y4M file, image files,
+// a directory or glob of them, or a video file), and recordings as a reader.
+#include <glob.h>
+#include <sys/stat.h>
+
+#include <algorithm>
+
+#include "infocus/recording.h"
+#include "replay/decoders/decoders.h"
+#include "replay/file_readers.h"
+#include "replay/recording_format.h"
+#include "replay/replay_sources.h"
+
+namespace infocus::replay {
+
+namespace {
+
+class RecordingFrameReader final : public FrameReader {
+public:
+    RecordingFrameReader(std::unique_ptr<RecordingReader> r, std::string text)
+        : r_(std::move(r)), text_(std::move(text)) {}
+
+    SourceInfo info() const override {
+        const RecordingHeader& h = r_->header();
+        SourceInfo i;
+        i.sourceString = text_;
+        i.device = h.device.empty() ? h.sourceString : h.device;
+        i.driver = "replay";
+        i.format = h.format;
+        i.size = h.size;
+        i.fps = h.fps;
+        i.frameCount = static_cast<int64_t>(r_->frameCount());
+        i.transfer.curve = h.transfer.curve;
+        i.transfer.origin = h.transfer.origin.empty()
+                                ? "the recording's header names no transfer function"
+                                : "the recording's header: " + h.transfer.origin;
+        return i;
+    }
+    size_t count() const override { return r_->frameCount(); }
+    int64_t timestampNs(size_t i) const override { return r_->frameInfo(i).timestampNs; }
+    Result<Frame> read(size_t i) override { return r_->read(i); }
+    std::optional<Error> trailingError() const override {
+        if (!r_->damage()) return std::nullopt;
+        return makeError(ErrorKind::Corrupt, *r_->damage());
+    }
+
+private:
+    std::unique_ptr<RecordingReader> r_;
+    std::string text_;
+};
+
+bool isDirectory(const std::string& path) {
+    struct stat st;
+    return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+bool exists(const std::string& path) {
+    struct stat st;
+    return ::stat(path.c_str(), &st) == 0;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<FrameSource>> openPathSource(const SourceSpec& spec) {
+    std::string path = spec.target;
+    while (path.size() > 1 && path.back() == '/')
+        path.pop_back();
+
+    if (isDirectory(path)) {
+        if (exists(path + "/" + kHeaderFileName)) {
+            auto options = parsePlaybackOptions(spec);
+            if (!options) return options.error();
+            auto reader = RecordingReader::open(path);
+            if (!reader) return reader.error();
+            return makePlayback(
+                std::make_unique<RecordingFrameReader>(std::move(*reader), spec.text), *options);
+        }
+        auto files = imagesInDirectory(path);
+        if (files.empty()) {
+            if (exists(path + "/" + kFramesFileName))
+                return makeError(ErrorKind::Corrupt,
+                                 "recording " + path + " has " + kFramesFileName + " but no " +
+                                     kHeaderFileName + "; the recording is damaged");
+            return makeError(ErrorKind::NotFound,
+                             "directory " + path +
+                                 " holds neither a recording (header.json) nor images (.jpg, "
+                                 ".png, .tif, .bmp, .pgm, ...)");
+        }
+        return openImages(spec, std::move(files));
+    }
+    if (!exists(path)) {
+        if (path.find_first_of("*?[") != std::string::npos) {
+            glob_t g{};
+            std::vector<std::string> files;
+            if (::glob(path.c_str(), 0, nullptr, &g) == 0)
+                for (size_t i = 0; i < g.gl_pathc; ++i)
+                    if (!isDirectory(g.gl_pathv[i])) files.emplace_back(g.gl_pathv[i]);
+            ::globfree(&g);
+            if (files.empty())
+                return makeError(ErrorKind::NotFound,
+                                 "no file matches the pattern '" + path + "'; check the path");
+            std::sort(files.begin(), files.end());
+            return openImages(spec, std::move(files));
+        }
+        return makeError(ErrorKind::NotFound,
+                         "source '" + spec.text + "': " + path +
+                             " does not exist; give an existing recording, video, image, "
+                             "directory or glob, or a camera (v4l2:, libcamera:, sim:)");
+    }
+    const std::string ext = extension(path);
+    if (ext == "y4m") {
+        auto options = parsePlaybackOptions(spec);
+        if (!options) return options.error();
+        auto reader = openY4mReader(path, spec.text);
+        if (!reader) return reader.error();
+        return makePlayback(std::move(*reader), *options);
+    }
+    if (isImageExtension(ext)) return openImages(spec, {path});
+    auto options = parsePlaybackOptions(spec);
+    if (!options) return options.error();
+    auto decoders = loadDecoders("cannot open " + path + ": reading video files");
+    if (!decoders) return decoders.error();
+    auto reader = (*decoders)->openVideo(path, spec.text);
+    if (!reader) return reader.error();
+    return makePlayback(std::move(*reader), *options);
+}
+
+}  // namespace infocus::replay

@@ -1,0 +1,239 @@
+// SPDX-License-Identifier: MIT
+// `infocus live`: the live focus assistant. Opens the live pipeline and hands it to the faces the
+// user chose (the terminal meter, a line of text or a JSON object a second).
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "commands.h"
+#include "infocus/devices.h"
+#include "infocus/live.h"
+#include "infocus/units.h"
+#include "infocus_config.h"
+#include "lens_options.h"
+#include "parse.h"
+#if HAVE_TUI
+#include "src/live/tui/tui.h"
+#endif
+
+namespace infocus::cli {
+
+namespace {
+
+constexpr const char* kName = "live";
+
+struct LiveArgs {
+    std::string source;
+    std::string ui;
+    std::string grid = "16x9";
+    std::string roi;
+    std::string metric;
+    std::string transfer = "linear";
+    std::string peaking = "off";
+    bool noBlur = false;
+    bool centreWeighted = false;
+    std::optional<double> seconds;
+    uint64_t frames = 0;
+    LensOptions lens;
+};
+
+std::atomic<bool> gStop{false};
+
+extern "C" void onLiveSignal(int) {
+    gStop.store(true);
+}
+
+// The first camera infocus can read; sim: when there is none.
+std::string defaultSource() {
+    auto devices = listDevices();
+    if (devices)
+        for (const DeviceInfo& d : *devices) {
+            if (d.mediaController) continue;
+            for (const auto& f : d.formats)
+                if (f.format != PixelFormat::Invalid) return d.sourceString;
+        }
+    std::cerr << "infocus live: no camera found; showing the simulated camera (sim:). Name a "
+                 "source to use another, e.g. infocus live /dev/video0\n";
+    return "sim:";
+}
+
+std::string distanceText(std::optional<double> m) {
+    if (!m) return "-";
+    if (std::isinf(*m)) return "infinity";
+    return formatDistance(*m);
+}
+
+// One line a second for a log or a pipe.
+std::string textLine(const LiveState& s) {
+    char blur[32] = "-";
+    if (s.blurPx) std::snprintf(blur, sizeof blur, "%.1f", *s.blurPx);
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "frame %llu  %.1f fps  %s %.5g  %5.1f%% of peak  %-7s%s  blur %s px",
+                  static_cast<unsigned long long>(s.frame), s.fps, s.metric.c_str(), s.score,
+                  s.percentOfPeak, std::string(trendName(s.trend)).c_str(),
+                  s.pastPeak ? "  past the peak: back up" : "", blur);
+    std::string line = buf;
+    if (s.lens) {
+        std::snprintf(buf, sizeof buf, "  lens %.4g %s", s.lens->value, s.lens->unit.c_str());
+        line += buf;
+    }
+    if (s.inFocusDistanceM) line += "  in focus at " + distanceText(s.inFocusDistanceM);
+    if (s.dofNearM) line += "  DoF " + distanceText(s.dofNearM) + " to " + distanceText(s.dofFarM);
+    std::snprintf(buf, sizeof buf, "  dropped %llu  skipped %llu  latency %.1f/%.1f ms",
+                  static_cast<unsigned long long>(s.dropped),
+                  static_cast<unsigned long long>(s.skipped), s.latencyP50Ms, s.latencyP99Ms);
+    line += buf;
+    if (!s.status.empty()) line += "  (" + s.status + ")";
+    return line;
+}
+
+// The text and JSON faces: the newest state once a second until the run ends.
+int runPrinted(LivePipeline& p, const LiveArgs& args, bool json) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    auto nextPrint = start + std::chrono::seconds(1);
+    std::optional<uint64_t> last;
+    while (!gStop.load()) {
+        auto s = p.waitForState(last, std::chrono::milliseconds(100));
+        if (s) last = s->frame;
+        const auto now = Clock::now();
+        const bool framesDone = args.frames > 0 && last && *last + 1 >= args.frames;
+        const bool timeDone =
+            args.seconds && std::chrono::duration<double>(now - start).count() >= *args.seconds;
+        if (now >= nextPrint || framesDone) {
+            if (auto newest = p.state()) {
+                std::cout << (json ? liveStateJson(*newest) : textLine(*newest)) << std::endl;
+                if (!std::cout)
+                    return reportError(kName, makeError(ErrorKind::Io, "cannot write to stdout"));
+            }
+            nextPrint += std::chrono::seconds(1);
+        }
+        if (framesDone || timeDone) break;
+        if (!s && p.ended()) break;
+    }
+    return 0;
+}
+
+int runLive(LiveArgs args) {
+    auto values = args.lens.resolve();
+    if (!values) return reportError(kName, values.error());
+    LiveOptions o;
+    const auto grid = parseGrid(args.grid);
+    if (!grid) return usageError(kName, gridUsage(args.grid));
+    o.analysis.cols = grid->first;
+    o.analysis.rows = grid->second;
+    o.analysis.metric = args.metric;
+    o.analysis.measureBlur = !args.noBlur;
+    o.analysis.centreWeighted = args.centreWeighted;
+    if (!parseTransfer(args.transfer, o.analysis))
+        return usageError(kName, transferUsage(args.transfer));
+    if (!args.roi.empty()) {
+        o.scoreRoi = parseRoi(args.roi);
+        if (!o.scoreRoi || o.scoreRoi->w <= 0 || o.scoreRoi->h <= 0)
+            return usageError(kName, "--roi " + args.roi +
+                                         " is not a region; give x,y,w,h in pixels, e.g. "
+                                         "--roi 600,300,200,200");
+    }
+    auto peaking = parsePeakingMode(args.peaking);
+    if (!peaking) return reportError(kName, peaking.error());
+    o.peaking = *peaking;
+    if (values->focalLength && values->fNumber)
+        o.lens.lens = optics::ThinLens{*values->focalLength, *values->fNumber};
+    o.lens.pixelPitchM = values->pixelPitch;
+    o.lens.cocM = values->coc;
+    o.lens.focusDistanceM = values->focusDistance;
+
+    std::string ui = args.ui;
+    if (ui.empty()) {
+#if HAVE_TUI
+        ui = isatty(STDOUT_FILENO) && isatty(STDIN_FILENO) ? "tui" : "text";
+#else
+        ui = "text";
+#endif
+    }
+    if (ui != "text" && ui != "json" && ui != "tui")
+        return usageError(kName, "--ui " + ui + " is not a face; use tui, text or json");
+#if !HAVE_TUI
+    if (ui == "tui")
+        return usageError(kName,
+                          "this infocus was built without the terminal face (ncurses); "
+                          "use --ui text or --ui json, or rebuild with libncurses-dev");
+#endif
+
+    const std::string source = args.source.empty() ? defaultSource() : args.source;
+    auto pipeline = LivePipeline::open(source, o);
+    if (!pipeline) return reportError(kName, pipeline.error());
+    LivePipeline& p = **pipeline;
+
+    struct sigaction sa {};
+    sa.sa_handler = onLiveSignal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+
+    if (Status st = p.start(); !st) return reportError(kName, st.error());
+    int rc = 0;
+#if HAVE_TUI
+    if (ui == "tui") {
+        TuiOptions to;
+        to.seconds = args.seconds;
+        if (args.frames > 0) to.frames = args.frames;
+        to.stop = &gStop;
+        if (Status st = runTui(p, to); !st) rc = reportError(kName, st.error());
+    }
+#endif
+    if (ui == "text" || ui == "json") rc = runPrinted(p, args, ui == "json");
+    const bool ended = p.ended();
+    const Status end = p.endStatus();
+    p.stop();
+    if (rc != 0) return rc;
+    if (ended && !end) return reportError(kName, end.error());
+    return 0;
+}
+
+}  // namespace
+
+Command addLiveCommand(CLI::App& app) {
+    auto args = std::make_shared<LiveArgs>();
+    CLI::App* sub = app.add_subcommand(
+        "live",
+        "The live focus assistant: a meter of sharpness and blur, per region, as you focus");
+    sub->add_option("SOURCE", args->source,
+                    "A camera, recording, file or sim: (default: the first camera, else sim:)");
+    sub->add_option("--ui", args->ui,
+                    "Face: tui (the terminal meter; the default on a terminal), text (a line a "
+                    "second; the default otherwise) or json (an object a second)");
+    sub->add_option("--grid", args->grid, "Regions as columns x rows")->capture_default_str();
+    sub->add_option("--roi", args->roi, "Score this region x,y,w,h instead of the whole frame");
+    sub->add_option("--metric", args->metric, "Sharpness operator (default teng)");
+    sub->add_option("--transfer", args->transfer,
+                    "How grey levels encode light: linear, srgb, "
+                    "rec709 or auto")
+        ->capture_default_str();
+    sub->add_option("--peaking", args->peaking, "Peaking mask: off, coc or percentile")
+        ->capture_default_str();
+    sub->add_flag("--no-blur", args->noBlur, "Sharpness only: skip the blur-width measurement");
+    sub->add_flag("--centre-weighted", args->centreWeighted,
+                  "Weight the whole-frame score towards the centre");
+    sub->add_option("--seconds", args->seconds, "Stop after this many seconds")
+        ->check(secondsIn(0, 1e9, "--seconds 10"));
+    sub->add_option("--frames", args->frames, "Stop after this many analysed frames")
+        ->check(frameCount(1));
+    args->lens.add(sub, LensOptionSet{.coc = true, .pitch = true});
+    sub->footer(
+        "Keys (tui): left/right focus (Shift x10), a autofocus, r reset peak, g grid, q quit.\n"
+        "Examples:\n"
+        "  infocus live\n"
+        "  infocus live sim:focal=16mm,fnumber=1.4,distance=1m,focus=0.5m --ui json --seconds 6\n"
+        "  infocus live /dev/video0 --lens rpi-cam3 --coc-px 2");
+    return {sub, [args] { return runLive(*args); }};
+}
+
+}  // namespace infocus::cli

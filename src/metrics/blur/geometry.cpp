@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: MIT
+// An edge's geometry: the rows of an oriented patch, the derivative's slices along the edge, the
+// line fitted through their centroids and the patch moved onto it (docs/blur.md, "Edge geometry").
+#include "internal.h"
+
+namespace infocus::blur_detail {
+
+std::span<const detail::GeometrySpan> patchSpans(const Luma8& img, const Bounds& b, const Patch& p,
+                                                 const Kernels& k) {
+    const double r = std::abs(p.hw * p.nx) + std::abs(p.hl * p.ny);
+    const double rv = std::abs(p.hw * p.ny) + std::abs(p.hl * p.nx);
+    const int y0 = std::max(b.y0, static_cast<int>(std::floor(p.cy - rv - 0.5)));
+    const int y1 = std::min(b.y1 - 1, static_cast<int>(std::ceil(p.cy + rv - 0.5)));
+    thread_local std::vector<detail::GeometrySpan> spans;
+    if (y1 < y0) return {};
+    if (spans.size() < static_cast<size_t>(y1 - y0 + 1)) spans.resize(y1 - y0 + 1);
+    // |dx·nx + dy·ny| ≤ hw and |−dx·ny + dy·nx| ≤ hl, solved for dx: each slab bounds dx to
+    // centre(dy) ± half, with centre linear in dy, so a 45° patch costs its area, not its
+    // bounding box, and a row costs a few multiplications. A slab whose normal has no x part
+    // (an axis-aligned patch) bounds the rows instead: |c·dy| ≤ h.
+    auto makeSlab = [](double a, double coef, double h) {
+        if (std::abs(a) < 1e-12) return detail::PatchSlab{true, 0.0, 0.0, h, coef};
+        const double inv = 1.0 / a;
+        return detail::PatchSlab{false, -coef * inv, std::abs(h * inv), h, coef};
+    };
+    const detail::PatchRows rows{img.data,
+                                 img.stride,
+                                 p.cx,
+                                 p.cy,
+                                 p.nx,
+                                 p.ny,
+                                 p.cx - r - 1.0,
+                                 p.cx + r + 1.0,
+                                 makeSlab(p.nx, p.ny, p.hw),
+                                 makeSlab(-p.ny, p.nx, p.hl),
+                                 b.x0,
+                                 b.x1,
+                                 y0,
+                                 y1};
+    return {spans.data(), static_cast<size_t>(k.patchRows(rows, spans.data()))};
+}
+
+void geometrySlices(const Luma8& img, const Bounds& b, const Kernels& k, const Patch& p,
+                    double threshold, int slices, Slice* out) {
+    // The kernel sums in float partial sums (8 per slice and moment, see blur_kernels.h); they are
+    // added up here in double. Scratch reused across calls: no allocation per edge.
+    constexpr int L = detail::kGeometryLanes, M = detail::kGeometryMoments;
+    thread_local std::vector<float> partial;
+    partial.assign(static_cast<size_t>(M) * L * slices, 0.0f);
+    const detail::GeometryPatch g{static_cast<float>(p.nx),
+                                  static_cast<float>(p.ny),
+                                  static_cast<float>(threshold),
+                                  static_cast<float>(p.hl),
+                                  slices,
+                                  static_cast<float>(slices / (2.0 * p.hl))};
+    const auto& spans = patchSpans(img, b, p, k);
+    k.geometryRows(spans.data(), static_cast<int>(spans.size()), img.stride, img.width, g,
+                   partial.data());
+    thread_local std::vector<double> sums;
+    sums.resize(static_cast<size_t>(M) * slices);
+    k.geometryReduce(partial.data(), slices, sums.data());
+    for (int s = 0; s < slices; ++s)
+        out[s] = {sums[M * s], sums[M * s + 1], sums[M * s + 2], sums[M * s + 3]};
+}
+
+LineFit fitLine(const Slice* s, int n) {
+    LineFit f;
+    double W = 0, St = 0, Se = 0, Stt = 0, Ste = 0, spread = 0;
+    int used = 0;
+    for (int i = 0; i < n; ++i) {
+        if (s[i].w <= 0.0) continue;
+        const double t = s[i].wt / s[i].w, e = s[i].wu / s[i].w, w = s[i].w;
+        W += w, St += w * t, Se += w * e, Stt += w * t * t, Ste += w * t * e;
+        spread += s[i].wuu - e * s[i].wu;
+        ++used;
+    }
+    if (used < 3) return f;
+    const double den = W * Stt - St * St;
+    if (den <= 1e-9) return f;
+    f.slope = (W * Ste - St * Se) / den;
+    f.a = (Se - f.slope * St) / W;
+    double res = 0.0;
+    for (int i = 0; i < n; ++i) {
+        if (s[i].w <= 0.0) continue;
+        const double t = s[i].wt / s[i].w, e = s[i].wu / s[i].w;
+        res += s[i].w * (e - f.a - f.slope * t) * (e - f.a - f.slope * t);
+    }
+    f.straight = std::sqrt(res / W);
+    f.spread2 = std::max(0.0, spread / W);
+    f.ok = true;
+    return f;
+}
+
+void moveOnto(Patch& p, const LineFit& f) {
+    p.cx += f.a * p.nx;
+    p.cy += f.a * p.ny;
+    const double nx = p.nx + f.slope * p.ny, ny = p.ny - f.slope * p.nx;
+    const double len = std::hypot(nx, ny);
+    p.nx = nx / len;
+    p.ny = ny / len;
+}
+
+}  // namespace infocus::blur_detail

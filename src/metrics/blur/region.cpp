@@ -1,0 +1,305 @@
+// SPDX-License-Identifier: MIT
+// Blur width at straight edges, a region at a time: the options in range, the region's setup,
+// its seeds tried strongest first, and its blur from the sharpest trusted edges (docs/blur.md).
+#include "internal.h"
+
+namespace infocus::blur_detail {
+
+namespace {
+
+// The straightness share e^(−bend²) of the quality (relativeBend) above which a segment
+// length counts as straight: a longer length is measured only while its bend costs it less than
+// half its quality. The bend widens the ESF (the edge's wander across the segment adds to its
+// spread), and a longer segment of a curved edge spends more pixels to measure it wider.
+constexpr double kStraightShare = 0.5;
+
+// What an edge needs to set the region's blur (measureBlur): a share of the region's best edge
+// quality, and a contrast of this many times the grey-level spread beside it.
+constexpr double kTrustedQuality = 0.3, kTrustedCnr = 5.0;
+
+// Quality above which an edge counts towards a region's blur at all.
+constexpr double kUsableQuality = 0.05;
+
+// Ranges of the options (BlurOptions, sanitized): the shortest segment measured (its half-length,
+// px), the widest ESF half-width (px; a blur of some 800 px), the most edges a region and the
+// coarsest candidate grid.
+constexpr double kShortestHalfLengthPx = 6.0, kMaxHalfWidthPx = 1024.0;
+constexpr int kMaxEdgesPerRegion = 256, kMaxCandidateStep = 64;
+
+// Rows of the next region asked for per seed tried: about a region's worth over the 16 or so
+// seeds a region of the bench's grid looks at (most are passed over cheaply).
+constexpr int kPrefetchRowsPerSeed = 8;
+
+// The edge at seed @p c of a region set up as @p s: the best of its segment lengths, or none.
+// @p covered is set to the patch along the seed's edge (over the full length), so that later
+// seeds on the same edge are skipped, measured or not, and @p track to where the edge was
+// measured.
+std::optional<EdgeMeasurement> measureSeed(const Luma8& luma, const RegionSetup& s,
+                                           const BlurOptions& o, const Kernels& k,
+                                           const Candidate& c, Patch& covered, EdgeTrack& track) {
+    thread_local std::vector<Slice> probe;
+    probe.resize(s.slices);
+    // One probe along the longest segment in a narrow slab about the seed's gradient: the
+    // slices' derivative centroids give every length's line and straightness at once.
+    const double g = std::sqrt(c.mag2);
+    const double threshold = 0.2 * g;
+    const Patch seed{c.x + 0.5, c.y + 0.5, c.gx / g, c.gy / g, kProbeHalfWidthPx, s.halfLength};
+    geometrySlices(luma, s.sb, k, seed, threshold, s.slices, probe.data());
+    // Long segments average more pixels; curved or crowded edges (texture) only stay straight
+    // and clean over a short one. Lengths are judged shortest first: a longer one only while
+    // the shorter is straight, since an edge that bends over a short segment bends more over
+    // a long one (straight: kStraightShare). The longest straight one is measured, then,
+    // while none rates above 0.3, the next shorter ones (three tries in all).
+    LineFit fits[kMaxLengths];
+    double share[kMaxLengths] = {};
+    int longest = -1, bestShare = -1;
+    for (int j = s.nLengths - 1; j >= 0; --j) {
+        const int m = s.slices >> j;
+        fits[j] = fitLine(probe.data() + (s.slices - m) / 2, m);
+        if (!fits[j].ok) continue;  // too few slices with an edge (a border): try longer
+        const double sd = std::max(guessSigma(fits[j]), std::sqrt(kPixelVariance));
+        const double bend = relativeBend(fits[j].straight, sd);
+        share[j] = std::exp(-bend * bend);
+        if (bestShare < 0 || share[j] > share[bestShare]) bestShare = j;
+        if (share[j] <= kStraightShare) break;
+        longest = j;
+    }
+    std::optional<EdgeMeasurement> best;
+    covered = seed;
+    int tries = 0;
+    const int from = longest >= 0 ? longest : bestShare;
+    for (int j = from; j >= 0 && j < s.nLengths && tries < 3; ++j) {
+        if (!fits[j].ok || (longest >= 0 && share[j] <= kStraightShare)) continue;
+        ++tries;
+        Patch p = seed;
+        p.hl = s.lengths[j];
+        moveOnto(p, fits[j]);
+        EdgeTrack t;
+        const auto m = measureSegment(luma, s.sb, o, k, p, threshold, fits[j], s.slices >> j, t);
+        if (tries == 1) covered = p;
+        if (m && (!best || m->quality > best->quality)) {
+            best = m;
+            covered = p;
+            track = t;
+        }
+        if (best && best->quality > 0.3) break;
+    }
+    covered.hl = s.halfLength;
+    return best;
+}
+
+}  // namespace
+
+Bounds clipRect(const Rect& r, int w, int h) {
+    const Rect c = intersect(r, {0, 0, w, h});
+    return {c.x, c.y, c.x + c.w, c.y + c.h};
+}
+
+BlurOptions sanitized(const BlurOptions& given) {
+    const BlurOptions defaults;
+    const auto in = [](double v, double fallback, double lo, double hi) {
+        return std::isnan(v) ? fallback : std::clamp(v, lo, hi);
+    };
+    // The ESF kernels' integer sums hold kEsfMaxBinPixels pixels a bin: bins of at most 1 px
+    // along segments of at most 2 × 500 px (a bin of an axis-aligned edge takes one column of
+    // the patch, one pixel a row).
+    constexpr double kMaxHalfLengthPx = 500.0;
+    static_assert(2 * kMaxHalfLengthPx + 1 <= detail::kEsfMaxBinPixels);
+    BlurOptions o = given;
+    o.maxEdges = std::clamp(given.maxEdges, 1, kMaxEdgesPerRegion);
+    o.candidateStep = std::clamp(given.candidateStep, 1, kMaxCandidateStep);
+    // 0 (or less, or not a number) picks the length from the region; a length is at least the
+    // shortest segment measured.
+    o.edgeHalfLengthPx =
+        given.edgeHalfLengthPx > 0.0
+            ? std::clamp(given.edgeHalfLengthPx, kShortestHalfLengthPx, kMaxHalfLengthPx)
+            : 0.0;
+    o.maxHalfWidthPx =
+        in(given.maxHalfWidthPx, defaults.maxHalfWidthPx, kProbeHalfWidthPx, kMaxHalfWidthPx);
+    o.binPx = in(given.binPx, defaults.binPx, 1.0 / 16.0, 1.0);
+    o.minContrast = in(given.minContrast, defaults.minContrast, 0.0, 255.0);
+    o.minGradient = in(given.minGradient, defaults.minGradient, 0.0, 1020.0);
+    o.relativeGradient = in(given.relativeGradient, defaults.relativeGradient, 0.0, 1.0);
+    o.opticsFloorSigmaPx = in(given.opticsFloorSigmaPx, 0.0, 0.0, kMaxHalfWidthPx);
+    if (given.transfer != TransferFunction::Srgb && given.transfer != TransferFunction::Rec709)
+        o.transfer = TransferFunction::Linear;
+    return o;
+}
+
+std::optional<RegionSetup> regionSetup(const Luma8& luma, const Rect& roi, const BlurOptions& o) {
+    if (luma.empty() || luma.width < 3 || luma.height < 3) return std::nullopt;
+    RegionSetup s;
+    s.r = clipRect(roi, luma.width, luma.height);
+    if (s.r.x1 - s.r.x0 < 3 || s.r.y1 - s.r.y0 < 3) return std::nullopt;
+    // Sampling stays one pixel inside the image: the derivative needs both neighbours.
+    const Bounds sb = o.sampleOutsideRoi ? Bounds{0, 0, luma.width, luma.height} : s.r;
+    s.sb = {std::max(sb.x0, 1), std::max(sb.y0, 1), std::min(sb.x1, luma.width - 1),
+            std::min(sb.y1, luma.height - 1)};
+    // Longer segments average more pixels per ESF bin (less noise) but must stay straight and
+    // inside the region's scale: a quarter of the region's smaller side unless told.
+    s.halfLength = o.edgeHalfLengthPx > 0
+                       ? o.edgeHalfLengthPx
+                       : std::clamp(0.25 * std::min(s.r.x1 - s.r.x0, s.r.y1 - s.r.y0), 8.0, 48.0);
+    for (double len = s.halfLength; len >= kShortestHalfLengthPx && s.nLengths < kMaxLengths;
+         len *= 0.5)
+        s.lengths[s.nLengths++] = len;
+    s.slices = 4 << (s.nLengths - 1);
+    return s;
+}
+
+std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Rect& roi,
+                                                     const BlurOptions& options,
+                                                     RowPrefetcher& next,
+                                                     std::vector<EdgeTrack>* found) {
+    std::vector<EdgeMeasurement> out;
+    const std::optional<RegionSetup> setup = regionSetup(luma, roi, options);
+    if (!setup) return out;
+    const RegionSetup& s = *setup;
+    const Kernels kernels = chooseKernels(options);
+    // The 64 strongest candidates first. A region without an edge yet whose candidates were all
+    // passed over or covered (crossed by many lines stronger than its edges: traces, wires, text)
+    // lists the next, weaker ones, four times as many each time. Equal gradients keep their scan
+    // order, so a longer list starts with the shorter one.
+    size_t cap = 64;
+    const CandidateGrid grid = candidateGrid(luma, s.r, options, kernels);
+    CandidateList cands = strongestCandidates(grid, kernels, cap);
+    size_t i = 0;  // the next of cands
+    std::vector<Patch> used;
+    int attempts = 0;
+    // A seed that passes oneSided usually gives an edge: a region gets maxEdges attempts, and one
+    // more per 128 × 128 px so that a large region (a coarse grid on a big sensor) is not judged
+    // by its first few seeds. The last attempt is kept for a region without a usable edge yet:
+    // there it finds the region's first edge, where elsewhere it would only add one more to the
+    // average. Since the ESF fit's second start (measureSegment) more seeds give an edge, and the
+    // rule takes a sixth of a frame's instructions without losing a region (docs/blur.md).
+    const int extra = (s.r.x1 - s.r.x0) * (s.r.y1 - s.r.y0) / (128 * 128);
+    bool haveUsable = false;
+    for (;;) {
+        if (static_cast<int>(out.size()) >= options.maxEdges ||
+            attempts >= options.maxEdges + extra - (haveUsable ? 1 : 0))
+            break;
+        if (i == cands.size()) {
+            // Every point listed, or an edge found: the region is done.
+            if (cands.strongest() < cap || !out.empty()) break;
+            const size_t looked = cands.strongest();
+            cap *= 4;
+            cands = weakerCandidates(grid, kernels, cap, cands.lowest());
+            i = 0;
+            if (cands.strongest() == looked) break;
+            continue;
+        }
+        const Candidate c = cands.at(i++);
+        next.fetch(kPrefetchRowsPerSeed);
+        // Skip seeds on an edge already measured (or already rejected).
+        const double px = c.x + 0.5, py = c.y + 0.5;
+        const bool covered = std::any_of(used.begin(), used.end(), [&](const Patch& p) {
+            return std::abs(p.u(px, py)) <= std::max(p.hw, 3.0) && std::abs(p.t(px, py)) <= p.hl;
+        });
+        if (covered) continue;
+        // Seeds on bars, lines and clutter are passed over (the scan goes on to weaker ones); the
+        // test reads 81 grid points where a measurement walks a thousand pixels twice.
+        if (!cands.judged() && !oneSided(grid, c.gridIndex, kernels)) continue;
+        ++attempts;
+        Patch edge{};
+        EdgeTrack track;
+        const std::optional<EdgeMeasurement> best =
+            measureSeed(luma, s, options, kernels, c, edge, track);
+        used.push_back(edge);
+        if (best) {
+            out.push_back(*best);
+            if (found) found->push_back(track);
+            haveUsable = haveUsable || best->quality > kUsableQuality;
+        }
+    }
+    return out;
+}
+
+BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const BlurOptions& options) {
+    BlurEstimate est;
+    std::vector<const EdgeMeasurement*> good;
+    for (const EdgeMeasurement& e : edges)
+        if (e.quality > kUsableQuality) good.push_back(&e);
+    if (good.empty()) return est;
+    // The sharpest edges set the region's blur. An edge's width is the defocus blur convolved
+    // with the edge's own softness (a rounded body, a shadow, a printed gradient), which only
+    // widens it: no edge in focus at that depth is sharper than the blur, so the smallest σ
+    // bounds it and wider edges are soft objects or edges at another depth. Only trusted edges
+    // may set it: at least 0.3 × the region's best quality, and a contrast at least 5 × the
+    // grey-level spread beside the edge. A cluttered edge (another edge or a corner in its
+    // plateaus) can read narrow, and one such edge must not decide the region.
+    // The edges within 25 % of the sharpest, either side, are averaged in variance, weighted by
+    // quality, against noise.
+    double best = 0.0;
+    for (const auto* e : good)
+        best = std::max(best, e->quality);
+    double sharpest = std::numeric_limits<double>::infinity();
+    for (const auto* e : good)
+        if (e->quality >= kTrustedQuality * best &&
+            e->contrast >= kTrustedCnr * std::max(e->noise, 0.5))
+            sharpest = std::min(sharpest, e->sigmaPx);
+    // A region of cluttered edges only: the sharpest of them, at their low confidence.
+    if (!std::isfinite(sharpest))
+        for (const auto* e : good)
+            sharpest = std::min(sharpest, e->sigmaPx);
+    double sw = 0, sv = 0, sr = 0, sh = 0, shw = 0;
+    int agreeing = 0;
+    for (const auto* e : good) {
+        if (std::abs(e->sigmaPx - sharpest) > 0.25 * sharpest + 0.05) continue;
+        sw += e->quality;
+        sv += e->quality * e->sigmaPx * e->sigmaPx;
+        sr += e->quality * e->edgeWidthPx * e->edgeWidthPx;
+        if (e->contrast >= kCleanCnr * std::max(e->noise, 0.5) && e->sigmaPx <= kHaloSigmaPx)
+            sh += e->quality * e->haloFraction, shw += e->quality;
+        ++agreeing;
+    }
+    const double sigma = std::sqrt(sv / sw), width = std::sqrt(sr / sw);
+    const double floor2 = options.opticsFloorSigmaPx * options.opticsFloorSigmaPx;
+    const double s = std::sqrt(std::max(0.0, sigma * sigma - floor2));
+    est.sigmaPx = s;
+    // A disc's projection is a semicircle of variance d²/16: the disc of equal moment has d = 4σ.
+    est.discDiameterPx = 4.0 * s;
+    est.edgeWidthPx = std::sqrt(
+        std::max(0.0, width * width - kGaussianRisePerSigma * kGaussianRisePerSigma * floor2));
+    est.edgeCount = agreeing;
+    if (shw > 0) est.haloFraction = sh / shw;
+    // Confidence: mean quality of the agreeing edges, more edges better, discounted by the
+    // share of edges that disagree with them (mixed widths: soft objects or several depths).
+    const double agreement = static_cast<double>(agreeing) / good.size();
+    est.confidence =
+        std::clamp((sw / agreeing) * (1.0 - std::exp(-agreeing / 1.5)) * agreement, 0.0, 1.0);
+    return est;
+}
+
+}  // namespace infocus::blur_detail
+
+namespace infocus {
+
+using namespace blur_detail;
+
+std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
+                                          const BlurOptions& options) {
+    RowPrefetcher none;
+    return measureEdgesPrefetching(luma, roi, sanitized(options), none);
+}
+
+BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& options) {
+    const BlurOptions o = sanitized(options);
+    RowPrefetcher none;
+    return blurFromEdges(measureEdgesPrefetching(luma, roi, o, none), o);
+}
+
+std::vector<BlurEstimate> measureBlurRegions(const Luma8& luma, std::span<const Rect> rois,
+                                             const BlurOptions& options) {
+    const BlurOptions o = sanitized(options);
+    std::vector<BlurEstimate> out;
+    out.reserve(rois.size());
+    for (size_t i = 0; i < rois.size(); ++i) {
+        RowPrefetcher next =
+            i + 1 < rois.size() ? RowPrefetcher(luma, rois[i + 1]) : RowPrefetcher();
+        out.push_back(blurFromEdges(measureEdgesPrefetching(luma, rois[i], o, next), o));
+        next.finish();
+    }
+    return out;
+}
+
+}  // namespace infocus

@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: MIT
+#include "live_state.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "infocus/depth_map.h"
+#include "infocus/dof.h"
+
+namespace infocus::live_detail {
+
+namespace {
+
+// Blur readings below this confidence are shown greyed and left out of the frame's median.
+constexpr double kConfident = 0.25;
+// Regions with a blur reading needed before the in-focus line and tilt are shown: three points
+// define any plane, so a handful more keep one stray edge from tilting it.
+constexpr int kMinRegionsForPlane = 6;
+// Wavelength for the diffraction floor: green, where a sensor's luma is most sensitive.
+constexpr double kWavelengthM = 550e-9;
+
+double median(std::vector<double> v) {
+    const auto mid = v.begin() + static_cast<ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+}
+
+}  // namespace
+
+void fillRegionsAndOptics(const FrameAnalysis& a, const LiveOptions& o,
+                          std::optional<double> focusDistanceM, LiveState& s) {
+    s.regions.clear();
+    s.regions.reserve(a.regions.size());
+    int cols = 0, rows = 0;
+    std::vector<double> blurs;
+    for (const RegionResult& r : a.regions) {
+        LiveRegion lr;
+        lr.col = r.col;
+        lr.row = r.row;
+        lr.rect = r.rect;
+        lr.sharpness = r.sharpness;
+        lr.blurPx = r.blurWidthPx;
+        lr.confidence = r.confidence;
+        cols = std::max(cols, r.col + 1);
+        rows = std::max(rows, r.row + 1);
+        if (r.blurWidthPx && r.confidence >= kConfident) blurs.push_back(*r.blurWidthPx);
+        s.regions.push_back(lr);
+    }
+    s.cols = cols;
+    s.rows = rows;
+    s.regionsWithBlur = static_cast<int>(blurs.size());
+    if (!blurs.empty()) s.blurPx = median(blurs);
+
+    const LiveLens& L = o.lens;
+    const auto pitch = L.pixelPitchM;
+    if (s.blurPx && pitch) s.blurUm = *s.blurPx * *pitch * 1e6;
+    s.cocFromLens = L.cocM && pitch;
+    s.cocPx = s.cocFromLens ? *L.cocM / *pitch : o.defaultCocPx;
+    if (L.lens && pitch) s.diffractionPx = 2.44 * kWavelengthM * L.lens->fNumber / *pitch;
+    s.regionsInCoc = static_cast<int>(
+        std::count_if(blurs.begin(), blurs.end(), [&](double b) { return b <= s.cocPx; }));
+
+    if (L.lens && L.cocM && focusDistanceM) {
+        if (auto dof = optics::exactLimits(*L.lens, *focusDistanceM, *L.cocM)) {
+            s.dofNearM = dof->nearLimit;
+            s.dofFarM = dof->farLimit;
+        }
+    }
+    if (s.regionsWithBlur >= kMinRegionsForPlane) {
+        std::optional<optics::CameraGeometry> camera;
+        if (L.lens && pitch && focusDistanceM)
+            camera = optics::CameraGeometry{*L.lens, *focusDistanceM, *pitch, a.width / 2.0,
+                                            a.height / 2.0};
+        DepthMapOptions dmo;
+        dmo.minConfidence = kConfident;
+        const DepthMap dm = depthMap(a, camera, dmo);
+        if (dm.plane) s.inFocusLine = dm.plane->inFocusLine;
+        if (dm.scenes) s.tiltDeg = (*dm.scenes)[0].tiltDeg;
+    }
+}
+
+void fillPictures(const Luma8& luma, const LiveOptions& o, PeakingMode mode, LiveState& s) {
+    if (o.previewLongSide <= 0 || luma.empty()) return;
+    const int longSide = std::max(luma.width, luma.height);
+    const int f = std::max(1, (longSide + o.previewLongSide - 1) / o.previewLongSide);
+    const int pw = luma.width / f, ph = luma.height / f;
+    if (pw < 3 || ph < 3) return;
+    auto preview = std::make_shared<Image<uint8_t>>(pw, ph);
+    // A box average: each preview pixel is the mean of the f × f frame pixels it covers.
+    const int area = f * f;
+    for (int y = 0; y < ph; ++y) {
+        uint8_t* out = preview->row(y);
+        for (int x = 0; x < pw; ++x) {
+            int sum = 0;
+            for (int dy = 0; dy < f; ++dy) {
+                const uint8_t* in = luma.row(y * f + dy) + x * f;
+                for (int dx = 0; dx < f; ++dx)
+                    sum += in[dx];
+            }
+            out[x] = static_cast<uint8_t>((sum + area / 2) / area);
+        }
+    }
+    s.preview = preview;
+    if (mode == PeakingMode::Off) return;
+
+    // Edge strength on the preview: the sum of absolute central differences.
+    std::vector<uint16_t> g(static_cast<size_t>(pw) * ph, 0);
+    std::vector<uint16_t> strong;
+    for (int y = 1; y + 1 < ph; ++y) {
+        const uint8_t* up = preview->row(y - 1);
+        const uint8_t* mid = preview->row(y);
+        const uint8_t* dn = preview->row(y + 1);
+        for (int x = 1; x + 1 < pw; ++x) {
+            const int v = std::abs(mid[x + 1] - mid[x - 1]) + std::abs(dn[x] - up[x]);
+            g[static_cast<size_t>(y) * pw + x] = static_cast<uint16_t>(v);
+            if (v > 8) strong.push_back(static_cast<uint16_t>(v));
+        }
+    }
+    auto mask = std::make_shared<Image<uint8_t>>(pw, ph);
+    if (!strong.empty()) {
+        // Percentile: the strongest edges of the frame, as Magic Lantern's peaking marks them.
+        // CoC: the edges (above the median edge strength) of regions whose blur is within the
+        // circle of confusion.
+        const double q = mode == PeakingMode::Percentile ? o.peakingPercentile : 0.5;
+        const auto k = std::min(strong.size() - 1, static_cast<size_t>(q * strong.size()));
+        std::nth_element(strong.begin(), strong.begin() + static_cast<ptrdiff_t>(k), strong.end());
+        const int threshold = std::max<int>(strong[k], 9);
+        std::vector<uint8_t> sharpRegion;
+        if (mode == PeakingMode::Coc)
+            for (const LiveRegion& r : s.regions)
+                sharpRegion.push_back(r.blurPx && r.confidence >= kConfident &&
+                                      *r.blurPx <= s.cocPx);
+        for (int y = 0; y < ph; ++y) {
+            uint8_t* out = mask->row(y);
+            for (int x = 0; x < pw; ++x) {
+                if (g[static_cast<size_t>(y) * pw + x] < threshold) continue;
+                if (mode == PeakingMode::Coc) {
+                    const int fx = x * f + f / 2, fy = y * f + f / 2;
+                    bool inSharp = false;
+                    for (size_t i = 0; i < s.regions.size() && !inSharp; ++i) {
+                        const Rect& r = s.regions[i].rect;
+                        inSharp = sharpRegion[i] && fx >= r.x && fx < r.x + r.w && fy >= r.y &&
+                                  fy < r.y + r.h;
+                    }
+                    if (!inSharp) continue;
+                }
+                out[x] = 255;
+            }
+        }
+    }
+    s.peakingMask = mask;
+}
+
+Magnifier magnify(const Luma8& luma, int x, int y, int zoom, int side) {
+    Magnifier m;
+    m.zoom = zoom == 2 ? 2 : 1;
+    const int src = std::min({side / m.zoom, luma.width, luma.height});
+    m.x = std::clamp(x, 0, std::max(0, luma.width - 1));
+    m.y = std::clamp(y, 0, std::max(0, luma.height - 1));
+    const int x0 = std::clamp(m.x - src / 2, 0, luma.width - src);
+    const int y0 = std::clamp(m.y - src / 2, 0, luma.height - src);
+    m.source = Rect{x0, y0, src, src};
+    m.crop = Image<uint8_t>(src * m.zoom, src * m.zoom);
+    for (int yy = 0; yy < src * m.zoom; ++yy) {
+        const uint8_t* in = luma.row(y0 + yy / m.zoom) + x0;
+        uint8_t* out = m.crop.row(yy);
+        for (int xx = 0; xx < src * m.zoom; ++xx)
+            out[xx] = in[xx / m.zoom];
+    }
+    return m;
+}
+
+}  // namespace infocus::live_detail
