@@ -112,6 +112,24 @@ TEST_CASE("the optics lines say what the state knows") {
     CHECK(regionsLine(s) == "12 of 130 regions within CoC   tilt 3.2°");
 }
 
+TEST_CASE("the title keeps its figures and shortens the source") {
+    LiveState s;
+    s.source = "sim:focal=16mm,fnumber=1.4,distance=1m,focus=0.5m";
+    s.width = 1280;
+    s.height = 720;
+    s.fps = 29.96;
+    s.skipped = 3;
+    s.latencyP50Ms = 12.04;
+    s.latencyP99Ms = 20.0;
+    const std::string stats = "1280×720  30.0 fps  dropped 0  skipped 3  latency 12.0/20.0 ms";
+    CHECK(titleStats(s) == stats);
+    const std::string t = titleLine(s, false, 78);
+    CHECK(displayWidth(t) == 78);
+    CHECK(t.starts_with("sim:focal=16"));
+    CHECK(t.ends_with("…  " + stats));
+    CHECK(titleLine(s, false, 200).starts_with(s.source + " "));
+}
+
 TEST_CASE("text is cut by columns, not bytes") {
     CHECK(fitColumns("µm ok", 2) == "µm");
     CHECK(fitColumns("abc", 5) == "abc");

@@ -227,7 +227,7 @@ void drawScreen(const LiveState* state, const ScreenNotes& notes) {
         return;
     }
     const LiveState& s = *state;
-    put(0, 1, titleLine(s, notes.fromSim), w, bar | A_BOLD);
+    put(0, 1, titleLine(s, notes.fromSim, w - 2), w, bar | A_BOLD);
     drawMeter(s, 1);
     // The history window is what the state keeps: from its oldest point (10 s by default).
     double windowS = 10.0;

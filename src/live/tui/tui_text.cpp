@@ -162,13 +162,23 @@ std::string trendText(Trend trend) {
     return "● steady";
 }
 
-std::string titleLine(const LiveState& s, bool fromSim) {
-    char buf[256];
+std::string titleStats(const LiveState& s) {
+    char buf[192];
     std::snprintf(buf, sizeof buf,
-                  "  %d×%d  %.1f fps  dropped %llu  skipped %llu  latency %.1f/%.1f ms", s.width,
+                  "%d×%d  %.1f fps  dropped %llu  skipped %llu  latency %.1f/%.1f ms", s.width,
                   s.height, s.fps, static_cast<unsigned long long>(s.dropped),
                   static_cast<unsigned long long>(s.skipped), s.latencyP50Ms, s.latencyP99Ms);
-    return s.source + (fromSim ? " (simulated: no camera named)" : "") + buf;
+    return buf;
+}
+
+std::string titleLine(const LiveState& s, bool fromSim, int columns) {
+    const std::string stats = titleStats(s);
+    std::string source = s.source + (fromSim ? " (simulated: no camera named)" : "");
+    // The figures matter more than the tail of a long source string: the source gives way.
+    const int room = columns - displayWidth(stats) - 2;
+    if (room < 2) return std::string(fitColumns(stats, std::max(columns, 0)));
+    if (displayWidth(source) > room) source = std::string(fitColumns(source, room - 1)) + "…";
+    return source + std::string(columns - displayWidth(source) - displayWidth(stats), ' ') + stats;
 }
 
 std::string lensLine(const LiveState& s) {

@@ -65,8 +65,12 @@ std::pair<int, int> nextGrid(int cols, int rows);
 /// The trend as an arrow and a word: "▲ sharper", "▼ worse", "● steady".
 std::string trendText(Trend trend);
 
-/// Title: source, resolution, fps, dropped, skipped and latency p50/p99.
-std::string titleLine(const LiveState& s, bool fromSim);
+/// The title's figures: resolution, fps, dropped, skipped and latency p50/p99.
+std::string titleStats(const LiveState& s);
+
+/// The title within @p columns: the source (cut short with "…" when needed; marked as the
+/// simulated camera with @p fromSim) at the left, titleStats at the right.
+std::string titleLine(const LiveState& s, bool fromSim, int columns);
 
 /// Lens position ("lens 2.00 D", "lens 412 v4l2 (2.43 D)") and "in focus at 1.00 m", or
 /// "autofocus…" while it runs.
