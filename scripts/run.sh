@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs infocus's main job on the built-in default.
+# Installs what is missing, builds, and runs infocus's main job: the live focus assistant.
 # Extra arguments replace the default command: scripts/run.sh dof --focal 50mm --fnumber 8 --focus 10m
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -10,6 +10,9 @@ ninja -C build >/dev/null || ninja -C build || exit 1
 if [[ $# -gt 0 ]]; then
 	exec build/src/cli/infocus "$@"
 fi
-# The main job until the live assistant exists: per-region sharpness and blur width of the
-# built-in simulated camera (three planes at known depths), as a table.
-exec build/src/cli/infocus analyze "sim:scene=steps" --frames 1 --grid 8x4 --format table
+# The main job: the live focus assistant. On a terminal, the terminal meter on the first camera
+# (or the simulated camera when there is none); without one, the text meter for 10 seconds.
+if [[ -t 0 && -t 1 ]]; then
+	exec build/src/cli/infocus live
+fi
+exec build/src/cli/infocus live --ui text --seconds 10

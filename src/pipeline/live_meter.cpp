@@ -11,7 +11,7 @@ namespace {
 // Exponential means of the score: the quick one follows a move within two or three frames, the
 // slow one remembers where the score was; their difference is the trend.
 constexpr double kFastAlpha = 0.5;
-constexpr double kSlowAlpha = 0.08;
+constexpr double kSlowAlpha = 0.15;
 // Under white noise of σ per frame the difference of the two means has a spread of about 0.55 σ;
 // a trend is declared at 4 such spreads and kept until it falls below 0.4 of that (hysteresis),
 // so a still scene reads steady.
@@ -20,7 +20,7 @@ constexpr double kTrendOn = 4.0;
 constexpr double kTrendOff = 0.4;
 // Changes smaller than this share of the score are not a trend whatever the noise (a scene too
 // still for the noise to be measured).
-constexpr double kTrendFloor = 0.002;
+constexpr double kTrendFloor = 0.005;
 constexpr size_t kNoiseWindow = 30;
 
 double median(std::vector<double> v) {

@@ -1,0 +1,209 @@
+// SPDX-License-Identifier: MIT
+// The live pipeline closed-loop on the simulated camera, whose true focus is known: a 16 mm f/1.4
+// lens, a textured plane at 1 m (1 dioptre), the lens starting at 0.5 m (2 dioptres).
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "infocus/live.h"
+
+using namespace infocus;
+using namespace std::chrono_literals;
+
+namespace {
+
+constexpr const char* kSim = "sim:focal=16mm,fnumber=1.4,distance=1m,focus=0.5m";
+
+std::unique_ptr<LivePipeline> openLive(const std::string& source = kSim) {
+    LiveOptions o;
+    o.analysis.cols = 8;
+    o.analysis.rows = 6;
+    auto p = LivePipeline::open(source, o);
+    REQUIRE(p);
+    REQUIRE((*p)->start());
+    return std::move(*p);
+}
+
+// The states of the next @p n frames.
+std::vector<std::shared_ptr<const LiveState>> nextStates(LivePipeline& p, int n) {
+    std::vector<std::shared_ptr<const LiveState>> out;
+    std::optional<uint64_t> last;
+    if (auto s = p.state()) last = s->frame;
+    while (static_cast<int>(out.size()) < n) {
+        auto s = p.waitForState(last, 2000ms);
+        REQUIRE(s);
+        last = s->frame;
+        out.push_back(s);
+    }
+    return out;
+}
+
+// Moves the lens to @p dpt and returns the states of the frames after it shows there.
+std::vector<std::shared_ptr<const LiveState>> moveAndWatch(LivePipeline& p, double dpt, int n) {
+    REQUIRE(p.focusTo(dpt));
+    for (int i = 0; i < 60; ++i) {
+        auto s = nextStates(p, 1).front();
+        if (s->lens && std::abs(s->lens->value - dpt) < 1e-9) {
+            auto rest = nextStates(p, n - 1);
+            rest.insert(rest.begin(), s);
+            return rest;
+        }
+    }
+    FAIL("the lens never showed the position " << dpt);
+    return {};
+}
+
+}  // namespace
+
+TEST_CASE("autofocus through the live controls lands on the plane") {
+    auto p = openLive();
+    auto first = nextStates(*p, 3).back();
+    REQUIRE(first->lens);
+    CHECK(first->lens->dioptres.value() == Approx(2.0).margin(1e-9));
+    CHECK(first->hasFocusControl);
+
+    REQUIRE(p->autofocus());
+    // The state keeps flowing while the sweep moves the lens.
+    bool sawRunning = false;
+    std::shared_ptr<const LiveState> s;
+    const auto deadline = std::chrono::steady_clock::now() + 60s;
+    std::optional<uint64_t> last;
+    while (std::chrono::steady_clock::now() < deadline) {
+        s = p->waitForState(last, 2000ms);
+        REQUIRE(s);
+        last = s->frame;
+        if (s->autofocusRunning) sawRunning = true;
+        if (sawRunning && !s->autofocusRunning) break;
+    }
+    REQUIRE(sawRunning);
+    REQUIRE_FALSE(s->autofocusRunning);
+    auto settled = nextStates(*p, 3).back();
+    INFO("status: " << settled->status);
+    REQUIRE(settled->lens);
+    // Within 0.02 dpt of the plane's 1 dpt.
+    CHECK(settled->lens->dioptres.value() == Approx(1.0).margin(0.02));
+    REQUIRE(settled->inFocusDistanceM);
+    CHECK(*settled->inFocusDistanceM == Approx(1.0).margin(0.021));
+    p->stop();
+}
+
+TEST_CASE("stepping towards focus reads sharper, past it worse and the past-peak cue") {
+    auto p = openLive();
+    moveAndWatch(*p, 1.3, 15);
+    p->resetPeak();
+    // Towards the plane in 0.05 dpt steps: sharper after each step, the percentage of the peak
+    // held at 100 (each step beats the last).
+    double lastScore = 0;
+    for (double d : {1.25, 1.2, 1.15, 1.1, 1.05, 1.0}) {
+        auto states = moveAndWatch(*p, d, 6);
+        bool sharper = false;
+        for (const auto& s : states)
+            sharper |= s->trend == Trend::Sharper;
+        INFO("at " << d << " dpt");
+        CHECK(sharper);
+        CHECK(states.back()->score > lastScore);
+        CHECK(states.back()->percentOfPeak == Approx(100.0).margin(1.0));
+        CHECK_FALSE(states.back()->pastPeak);
+        lastScore = states.back()->score;
+    }
+    // Past the plane: worse, and the cue to back up.
+    bool worse = false, past = false;
+    for (double d : {0.95, 0.9, 0.85}) {
+        auto states = moveAndWatch(*p, d, 6);
+        for (const auto& s : states) {
+            worse |= s->trend == Trend::Worse;
+            past |= s->pastPeak;
+        }
+        INFO("at " << d << " dpt");
+        CHECK(states.back()->score < lastScore);
+        CHECK(states.back()->percentOfPeak < 100.0);
+        lastScore = states.back()->score;
+    }
+    CHECK(worse);
+    CHECK(past);
+    // A still lens reads steady again.
+    auto still = nextStates(*p, 30);
+    CHECK(still.back()->trend == Trend::Steady);
+    p->stop();
+}
+
+TEST_CASE("the live state counts frames and reports the optics it knows") {
+    LiveOptions o;
+    o.analysis.cols = 8;
+    o.analysis.rows = 6;
+    o.lens.lens = optics::ThinLens{16e-3, 1.4};
+    // The sim's default sensor, 4608 px of 1.4 µm, seen at 1280 px.
+    o.lens.pixelPitchM = 1.4e-6 * 4608 / 1280;
+    o.lens.cocM = 2 * *o.lens.pixelPitchM;
+    o.previewLongSide = 640;
+    o.peaking = PeakingMode::Percentile;
+    auto p = LivePipeline::open("sim:focal=16mm,fnumber=1.4,distance=1m,focus=1m", o);
+    REQUIRE(p);
+    REQUIRE((*p)->start());
+    REQUIRE((*p)->setMagnifier(std::array<int, 3>{640, 360, 2}));
+    auto states = nextStates(**p, 20);
+    const LiveState& s = *states.back();
+    CHECK(s.frame >= 19);
+    CHECK(s.width == 1280);
+    CHECK(s.cols == 8);
+    CHECK(s.rows == 6);
+    CHECK(s.regions.size() == 48u);
+    CHECK(s.cocFromLens);
+    CHECK(s.cocPx == Approx(2.0).epsilon(1e-9));
+    // Airy diameter 2.44 λ N at 550 nm, in pixels of 5.04 µm.
+    REQUIRE(s.diffractionPx);
+    CHECK(*s.diffractionPx == Approx(2.44 * 550e-9 * 1.4 / 5.04e-6).epsilon(1e-9));
+    // In focus at 1 m: the thin lens's depth of field with c = 10.08 µm.
+    REQUIRE(s.dofNearM);
+    REQUIRE(s.dofFarM);
+    const double f = 16e-3, N = 1.4, c = 2 * 5.04e-6, u = 1.0;
+    CHECK(*s.dofNearM == Approx(u * f * f / (f * f + N * c * (u - f))).epsilon(1e-6));
+    CHECK(*s.dofFarM == Approx(u * f * f / (f * f - N * c * (u - f))).epsilon(1e-6));
+    // A plane in focus: most regions read within the CoC.
+    CHECK(s.regionsWithBlur >= 16);
+    CHECK(s.regionsInCoc * 3 >= s.regionsWithBlur * 2);
+    REQUIRE(s.preview);
+    CHECK(s.preview->width() == 640);
+    CHECK(s.preview->height() == 360);
+    REQUIRE(s.peakingMask);
+    CHECK(s.peakingMask->width() == 640);
+    REQUIRE(s.magnifier);
+    CHECK(s.magnifier->zoom == 2);
+    CHECK(s.magnifier->crop.width() == 128);
+    CHECK(s.magnifier->source.w == 64);
+    CHECK(s.fps > 20);
+    CHECK(s.history.size() >= 15);
+    const std::string json = liveStateJson(s);
+    for (const char* field :
+         {"\"frame\"", "\"fps\"", "\"dropped\"", "\"skipped\"", "\"latency_p50_ms\"",
+          "\"latency_p99_ms\"", "\"score\"", "\"peak\"", "\"percent_of_peak\"", "\"trend\"",
+          "\"blur_px\"", "\"lens_position\"", "\"in_focus_distance_m\"", "\"regions\""})
+        CHECK(json.find(field) != std::string::npos);
+    (*p)->stop();
+}
+
+TEST_CASE("controls refuse what they cannot do, with the reason") {
+    LiveOptions o;
+    o.analysis.cols = 4;
+    o.analysis.rows = 3;
+    auto bad = LivePipeline::open("sim:", [] {
+        LiveOptions b;
+        b.analysis.cols = 0;
+        return b;
+    }());
+    REQUIRE_FALSE(bad);
+    CHECK(bad.error().kind == ErrorKind::Usage);
+    auto p = LivePipeline::open("sim:", o);
+    REQUIRE(p);
+    REQUIRE((*p)->start());
+    CHECK_FALSE((*p)->setMagnifier(std::array<int, 3>{10, 10, 3}));
+    CHECK_FALSE((*p)->setScoreRoi(Rect{1200, 700, 200, 200}));
+    CHECK_FALSE((*p)->setGrid(0, 3));
+    REQUIRE((*p)->setGrid(2, 2));
+    auto states = nextStates(**p, 5);
+    CHECK(states.back()->regions.size() == 4u);
+    (*p)->stop();
+    CHECK_FALSE((*p)->focusStep(1));
+}
