@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The terminal view as a person uses it: `infocus live` on the simulated camera in tmux (100×30
-# and 80×24), looked at through capture-pane. The meter and the grid show; g changes the grid;
-# → moves the lens; a finds focus at the sim's 1 m; q (or SIGTERM) exits 0 and gives the terminal
-# back. Usage: test_tui.sh PATH_TO_INFOCUS HAVE_TUI(true|false)
+# and 80×24), looked at through capture-pane. The meter and the grid show; a finds focus at the
+# sim's 1 m; ← steps past the peak and the cue shows; g cycles the grid; q (or SIGTERM) exits 0
+# and gives the terminal back. Usage: test_tui.sh PATH_TO_INFOCUS HAVE_TUI(true|false)
 set -u
 bin=${1:?path to infocus}
 if [[ ${2:-true} != true ]]; then
@@ -87,23 +87,10 @@ if wait_for wide 30 'peak┘' && wait_for wide 20 'regions 16×9'; then
 	check_view wide 100 30
 	echo "--- 100×30, before autofocus:"
 	screen wide
-	tm send-keys -t wide g
-	wait_for wide 10 'regions 8×6' && ok || bad "wide: g did not change the grid to 8×6"
-	tm send-keys -t wide g
-	wait_for wide 10 'regions 4×3' && ok || bad "wide: g did not change the grid to 4×3"
-	tm send-keys -t wide g
-	wait_for wide 10 'regions 16×9' && ok || bad "wide: g did not bring the grid back to 16×9"
-	lens0=$(screen wide | grep -oE '^ lens [^ ]+ [^ ]+')
-	tm send-keys -t wide Right
-	for ((i = 0; i < 50; i++)); do
-		lens1=$(screen wide | grep -oE '^ lens [^ ]+ [^ ]+')
-		[[ $lens1 != "$lens0" ]] && break
-		sleep 0.2
-	done
-	[[ $lens1 != "$lens0" ]] && ok || bad "wide: → left the lens at '$lens0'"
+	# The sim's plane is 1 m away: autofocus ends with the lens focused there. (Asked first, on a
+	# lens at rest.)
 	tm send-keys -t wide a
-	# The sim's plane is 1 m away: autofocus ends with the lens focused there.
-	found=""
+	found="" d=""
 	for ((i = 0; i < 150; i++)); do
 		d=$(screen wide | grep -oE 'in focus at [0-9.]+ m?m' | head -1)
 		if [[ -n $d ]] && ! screen wide | grep -q 'autofocus…'; then
@@ -118,6 +105,22 @@ if wait_for wide 30 'peak┘' && wait_for wide 20 'regions 16×9'; then
 	[[ -n $found ]] && ok || bad "wide: after a, no 'in focus at' 0.95–1.05 m (last: '$d')"
 	echo "--- 100×30, after autofocus ($found):"
 	screen wide
+	# Three steps back from the peak: the lens moves, the score falls and the cue says so.
+	lens0=$(screen wide | grep -oE '^ lens [^ ]+ [^ ]+')
+	tm send-keys -t wide Left Left Left
+	wait_for wide 10 '◀ past the peak — back up' && ok || bad "wide: no past-peak cue after ←←←"
+	[[ $(screen wide | grep -oE '^ lens [^ ]+ [^ ]+') != "$lens0" ]] && ok ||
+		bad "wide: ← left the lens at '$lens0'"
+	echo "--- 100×30, three steps past the peak:"
+	screen wide
+	tm send-keys -t wide g
+	wait_for wide 10 'regions 8×6' && ok || bad "wide: g did not change the grid to 8×6"
+	tm send-keys -t wide g
+	wait_for wide 10 'regions 4×3' && ok || bad "wide: g did not change the grid to 4×3"
+	echo "--- 100×30, grid 4×3:"
+	screen wide
+	tm send-keys -t wide g
+	wait_for wide 10 'regions 16×9' && ok || bad "wide: g did not bring the grid back to 16×9"
 	tm send-keys -t wide q
 	check_exit wide
 else
