@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The terminal view as a person uses it: `infocus live` on the simulated camera in tmux (100×30
 # and 80×24), looked at through capture-pane. The meter and the grid show; a finds focus at the
-# sim's 1 m; ← steps past the peak and the cue shows; g cycles the grid; q (or SIGTERM) exits 0
-# and gives the terminal back. Usage: test_tui.sh PATH_TO_INFOCUS HAVE_TUI(true|false)
+# sim's 1 m; ←/→ move the lens through focus and past it, and the cue shows; r clears it; g cycles the grid; q (or SIGTERM) exits 0
+# and gives the terminal back. With lens data (a scripted pipeline, tui_fake) the DoF, blur in µm,
+# diffraction and tilt lines show.
+# Usage: test_tui.sh PATH_TO_INFOCUS HAVE_TUI(true|false) [PATH_TO_TUI_FAKE]
 set -u
 bin=${1:?path to infocus}
 if [[ ${2:-true} != true ]]; then
@@ -105,13 +107,28 @@ if wait_for wide 30 'peak┘' && wait_for wide 20 'regions 16×9'; then
 	[[ -n $found ]] && ok || bad "wide: after a, no 'in focus at' 0.95–1.05 m (last: '$d')"
 	echo "--- 100×30, after autofocus ($found):"
 	screen wide
-	# Three steps back from the peak: the lens moves, the score falls and the cue says so.
+	# Three steps back from focus; r forgets the peak there (and any cue the sweep left); six
+	# steps forward climb through focus and fall past it, and the cue shows.
 	lens0=$(screen wide | grep -oE '^ lens [^ ]+ [^ ]+')
-	tm send-keys -t wide Left Left Left
-	wait_for wide 10 '◀ past the peak — back up' && ok || bad "wide: no past-peak cue after ←←←"
+	for k in Left Left Left; do
+		tm send-keys -t wide $k
+		sleep 0.5
+	done
 	[[ $(screen wide | grep -oE '^ lens [^ ]+ [^ ]+') != "$lens0" ]] && ok ||
 		bad "wide: ← left the lens at '$lens0'"
-	echo "--- 100×30, three steps past the peak:"
+	sleep 1
+	tm send-keys -t wide r
+	for ((i = 0; i < 50; i++)); do
+		screen wide | grep -q '◀ past the peak' || break
+		sleep 0.2
+	done
+	screen wide | grep -q '◀ past the peak' && bad "wide: r left the past-peak cue" || ok
+	for k in Right Right Right Right Right Right; do
+		tm send-keys -t wide $k
+		sleep 0.7
+	done
+	wait_for wide 10 '◀ past the peak — back up' && ok || bad "wide: no past-peak cue past focus"
+	echo "--- 100×30, three steps past focus:"
 	screen wide
 	tm send-keys -t wide g
 	wait_for wide 10 'regions 8×6' && ok || bad "wide: g did not change the grid to 8×6"
@@ -145,6 +162,29 @@ if wait_for small 30 'peak┘' && wait_for small 20 'regions 16×9'; then
 else
 	bad "small: the meter did not show within 50 s"
 	screen small
+fi
+
+# With lens data: the optics lines, from the scripted pipeline (lens at 2 dpt over a plane at 1 m).
+fake=${3:-}
+if [[ -n $fake ]]; then
+	tm new-session -d -s lens -x 100 -y 30 "TERM=tmux-256color $fake 60; echo EXIT=\$? > $tmp/lens.exit; \
+		echo VIEW-ENDED; sleep 120"
+	if wait_for lens 10 'tilt 3.2°'; then
+		s=$(screen lens)
+		grep -q '^ lens 2.00 D   in focus at 500 mm$' <<<"$s" && ok || bad "lens: no lens line"
+		grep -q '^ DoF 483 mm – 518 mm$' <<<"$s" && ok || bad "lens: no DoF line"
+		grep -qE '^ blur [0-9.]+ px = [0-9.]+ µm  CoC 2.0 px  diffraction 1.3 px$' <<<"$s" && ok ||
+			bad "lens: no blur line against CoC and diffraction"
+		grep -qE '^ [0-9]+ of 124 regions within CoC   tilt 3.2°   in focus along \(960, 0\)–\(980, 1080\)$' \
+			<<<"$s" && ok || bad "lens: no regions and tilt line"
+		echo "--- 100×30, with lens data (scripted):"
+		echo "$s"
+		tm send-keys -t lens q
+		check_exit lens
+	else
+		bad "lens: the scripted view did not show"
+		screen lens
+	fi
 fi
 
 echo "tui: $pass passed, $fail failed"
