@@ -3,7 +3,7 @@
 # and 80×24), looked at through capture-pane. The meter and the grid show; a finds focus at the
 # sim's 1 m; ←/→ move the lens through focus and past it, and the cue shows; r clears it; g cycles the grid; q (or SIGTERM) exits 0
 # and gives the terminal back. With lens data (a scripted pipeline, tui_fake) the DoF, blur in µm,
-# diffraction and tilt lines show.
+# diffraction and tilt lines show, Shift moves ten steps and a control's error is shown.
 # Usage: test_tui.sh PATH_TO_INFOCUS HAVE_TUI(true|false) [PATH_TO_TUI_FAKE]
 set -u
 bin=${1:?path to infocus}
@@ -179,6 +179,12 @@ if [[ -n $fake ]]; then
 			<<<"$s" && ok || bad "lens: no regions and tilt line"
 		echo "--- 100×30, with lens data (scripted):"
 		echo "$s"
+		# Shift moves ten steps (0.05 dpt each here); a control's error lands on the status line.
+		tm send-keys -t lens S-Right
+		wait_for lens 5 '^ lens 2.50 D' && ok || bad "lens: Shift+→ did not move ten steps"
+		tm send-keys -t lens S-Left S-Left S-Left S-Left S-Left S-Left
+		wait_for lens 5 '^ the lens is at the end of its range' && ok ||
+			bad "lens: a control's error is not on the status line"
 		tm send-keys -t lens q
 		check_exit lens
 	else
