@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The terminal view as a person uses it: `infocus live` on the simulated camera in tmux (100×30
 # and 80×24), looked at through capture-pane. The meter and the grid show; a finds focus at the
-# sim's 1 m; ←/→ move the lens through focus and past it, and the cue shows; r clears it; g cycles the grid; q (or SIGTERM) exits 0
-# and gives the terminal back. With lens data (a scripted pipeline, tui_fake) the DoF, blur in µm,
-# diffraction and tilt lines show, Shift moves ten steps and a control's error is shown.
+# sim's 1 m; ←/→ move the lens through focus and past it, and the cue shows; r clears it; g
+# cycles the grid; q exits 0 and gives the terminal back, as do SIGTERM and Ctrl-C. With lens
+# data (a scripted pipeline, tui_fake) the DoF, blur in µm, diffraction and tilt lines show,
+# Shift moves ten steps and a control's error is shown.
 # Usage: test_tui.sh PATH_TO_INFOCUS HAVE_TUI(true|false) [PATH_TO_TUI_FAKE]
 set -u
 bin=${1:?path to infocus}
@@ -162,6 +163,15 @@ if wait_for small 30 'peak┘' && wait_for small 20 'regions 16×9'; then
 else
 	bad "small: the meter did not show within 50 s"
 	screen small
+fi
+
+# Ctrl-C (SIGINT from the terminal) ends it as cleanly too.
+start ctrlc 80x24
+if wait_for ctrlc 30 'peak┘'; then
+	tm send-keys -t ctrlc C-c
+	check_exit ctrlc
+else
+	bad "ctrlc: the meter did not show within 30 s"
 fi
 
 # With lens data: the optics lines, from the scripted pipeline (lens at 2 dpt over a plane at 1 m).
