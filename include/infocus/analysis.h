@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: MIT
 /// @file analysis.h
-/// Per-frame analysis: sharpness and blur width for each region of a grid or ROI list, and its
-/// JSONL form (the `infocus analyze` contract in DESIGN.md).
+/// Per-frame analysis: sharpness and blur width for each region of a grid or ROI list (the
+/// `infocus analyze` contract in docs/design.md; its JSONL form is in output.h).
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "infocus/blur.h"
@@ -26,7 +25,7 @@ struct RegionResult {
     double sharpness = 0.0;  ///< focus measure of the chosen operator (normalised)
     std::optional<double> edgeWidthPx;   ///< 10–90 % edge rise, pixels
     std::optional<double> blurSigmaPx;   ///< Gaussian-equivalent σ, pixels
-    std::optional<double> blurWidthPx;   ///< disc-equivalent diameter (the lecture's ΔX_i), px
+    std::optional<double> blurWidthPx;   ///< disc-equivalent diameter (thin-lens ΔX_i), px
     double confidence = 0.0;             ///< 0–1 trust in the blur fields; 0 when they are null
     std::optional<double> haloFraction;  ///< BlurEstimate::haloFraction (not in the JSONL)
 };
@@ -115,12 +114,5 @@ private:
     explicit Analyzer(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
-
-/// Serialises @p a as one JSONL line (no trailing newline) with the fields of DESIGN.md.
-std::string toJsonLine(const FrameAnalysis& a);
-
-/// Parses one JSONL line written by toJsonLine (or by `infocus analyze`). Fails with
-/// ErrorKind::Corrupt naming the missing or malformed field.
-Result<FrameAnalysis> parseJsonLine(std::string_view line);
 
 }  // namespace infocus

@@ -47,7 +47,7 @@ struct BlurOptions {
 struct BlurEstimate {
     std::optional<double> edgeWidthPx;     ///< 10–90 % edge rise (Gaussian: 2.5631 σ)
     std::optional<double> sigmaPx;         ///< Gaussian-model σ (equal second moment)
-    std::optional<double> discDiameterPx;  ///< uniform-disc model diameter, the lecture's ΔX_i
+    std::optional<double> discDiameterPx;  ///< uniform-disc diameter, the thin-lens ΔX_i
     double confidence = 0.0;               ///< 0..1, 0 when the fields are empty
     int edgeCount = 0;                     ///< edges used
     /// Sharpening halos beside the region's clean sharp edges (EdgeMeasurement::haloFraction,

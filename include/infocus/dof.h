@@ -60,7 +60,7 @@ struct DofResult {
     double hyperfocal = 0.0;          ///< H = f²/(N c) + f (far limit ∞ when focused here)
     double hyperfocalSimple = 0.0;    ///< H' = f²/(N c), the common simplified definition
     double hyperfocalNear = 0.0;      ///< near limit when focused at H (H/2 from the lens)
-    DofLimits exact;                  ///< exact thin-lens limits, from the lecture's blur model
+    DofLimits exact;                  ///< exact thin-lens limits, from the thin-lens blur model
     DofLimits approximate;            ///< approximation near ≈ H'u/(H'+u), far ≈ H'u/(H'−u)
     double frontDepth = 0.0;          ///< focus − near, metres
     double rearDepth = 0.0;           ///< far − focus, metres (∞ possible)

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @file optics.h
-/// The thin-lens model of the lecture (seed/lecture5-thin-lens-focus.txt): conjugate points, the
+/// The thin-lens model (docs/optics.md): conjugate points, the
 /// homogeneous projection matrix, focus, aperture, defocus blur and depth from blur. Pure
 /// functions; every length is in metres, distances are measured from the lens along the optical
 /// axis, and an infinite distance is +infinity.
@@ -36,7 +36,7 @@ using Mat4 = std::array<std::array<double, 4>, 4>;
 
 /// The conjugate distance of @p z through a lens of focal length @p f: z' = f z/(z − f), from
 /// 1/f = 1/z + 1/z'. Symmetric (object → image and image → object). z = ∞ gives f, z = f gives
-/// ∞. No answer for z < f (a virtual image, outside the lecture's model) or f ≤ 0.
+/// ∞. No answer for z < f (a virtual image, outside the thin-lens model) or f ≤ 0.
 std::optional<double> conjugateDistance(double f, double z);
 
 /// The conjugate point of @p p: X' = f X/(z − f), Y' = f Y/(z − f), z' = f z/(z − f). Used in
@@ -48,8 +48,9 @@ std::optional<Point3> conjugatePoint(double f, const Point3& p);
 /// 0 for an object at infinity; no answer for z_o ≤ f.
 std::optional<double> magnification(double f, double objectDistance);
 
-/// The lecture's homogeneous projection [[f,0,0,0],[0,f,0,0],[0,0,f,0],[0,0,1,−f]]: (X, Y, z, 1)
-/// maps to (fX, fY, fz, z − f) ~ the conjugate point. Its square is f²·I (it is its own inverse).
+/// The thin-lens model's homogeneous projection [[f,0,0,0],[0,f,0,0],[0,0,f,0],[0,0,1,−f]]: (X, Y,
+/// z, 1) maps to (fX, fY, fz, z − f) ~ the conjugate point. Its square is f²·I (it is its own
+/// inverse).
 Mat4 projectionMatrix(double f);
 
 /// m·v.
@@ -61,27 +62,27 @@ Mat4 multiply(const Mat4& a, const Mat4& b);
 /// The Euclidean point of homogeneous @p v; no answer when w = 0 (a point at infinity).
 std::optional<Point3> dehomogenize(const Vec4& v);
 
-/// The object distance in focus for a sensor @p sensorDistance behind the lens (the lecture's
-/// z_s*, 1/f = 1/z_s + 1/z_s*): ∞ when z_s = f, no answer when z_s < f.
+/// The object distance in focus for a sensor @p sensorDistance behind the lens (the thin-lens
+/// model's z_s*, 1/f = 1/z_s + 1/z_s*): ∞ when z_s = f, no answer when z_s < f.
 std::optional<double> inFocusDistance(double f, double sensorDistance);
 
 /// The sensor distance z_s that focuses an object plane @p focusDistance away: f for ∞, no
 /// answer for a focus distance ≤ f.
 std::optional<double> sensorDistanceForFocus(double f, double focusDistance);
 
-/// The lecture's signed blur width on the sensor, metres: ΔX_i = A·(z_s(1/f − 1/z_o) − 1) =
+/// The thin-lens model's signed blur width on the sensor, metres: ΔX_i = A·(z_s(1/f − 1/z_o) − 1) =
 /// A·z_s·(1/u − 1/z_o) with u the in-focus distance. Positive for objects farther than the
 /// in-focus plane (the sensor lies behind their image), negative for nearer ones, 0 in focus.
 /// @p objectDistance may be ∞.
 double signedBlurWidth(const ThinLens& lens, double sensorDistance, double objectDistance);
 
-/// The lecture's first case, an object farther than the in-focus plane (image in front of the
-/// sensor, z_i < z_s): ΔX_i = A·(z_s/z_i − 1), from ΔX_i/(z_s − z_i) = A/z_i. @p imageDistance is
-/// z_i > 0 metres.
+/// The thin-lens model's first case, an object farther than the in-focus plane (image in front of
+/// the sensor, z_i < z_s): ΔX_i = A·(z_s/z_i − 1), from ΔX_i/(z_s − z_i) = A/z_i. @p imageDistance
+/// is z_i > 0 metres.
 double blurWidthBeyondFocus(const ThinLens& lens, double sensorDistance, double imageDistance);
 
-/// The lecture's second case, an object nearer than the in-focus plane (image behind the sensor,
-/// z_i > z_s): ΔX_i = A·(1 − z_s/z_i), from ΔX_i/(z_i − z_s) = A/z_i.
+/// The thin-lens model's second case, an object nearer than the in-focus plane (image behind the
+/// sensor, z_i > z_s): ΔX_i = A·(1 − z_s/z_i), from ΔX_i/(z_i − z_s) = A/z_i.
 double blurWidthBeforeFocus(const ThinLens& lens, double sensorDistance, double imageDistance);
 
 /// The blur width, both cases in one: ΔX_i = A·|z_s(1/f − 1/z_o) − 1|, metres on the sensor.

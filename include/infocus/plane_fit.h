@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file plane_fit.h
-/// The in-focus plane from a blur map. For a scene plane aX + bY + cZ = 1 the lecture's signed
-/// blur is affine in the image coordinates, so measured blur = |p0 + p1·x + p2·y| (a "V" whose
-/// zero line is where the scene plane crosses the plane of focus). The fit is robust (LMedS over
-/// triples with every sign hypothesis, then IRLS with Tukey weights) and reports the in-focus
+/// The in-focus plane from a blur map. For a scene plane aX + bY + cZ = 1 the thin-lens model's
+/// signed blur is affine in the image coordinates, so measured blur = |p0 + p1·x + p2·y| (a "V"
+/// whose zero line is where the scene plane crosses the plane of focus). The fit is robust (LMedS
+/// over triples with every sign hypothesis, then IRLS with Tukey weights) and reports the in-focus
 /// line, the fit quality and, with lens parameters, both scene planes the blur cannot tell apart.
 #pragma once
 
@@ -76,7 +76,7 @@ struct CameraGeometry {
 };
 
 /// A scene plane aX + bY + cZ = 1 in lens coordinates (X, Y along the image's x and y axes,
-/// Z along the optical axis, metres), as the lecture writes it.
+/// Z along the optical axis, metres), as docs/optics.md writes it.
 struct ScenePlane {
     double a = 0.0, b = 0.0, c = 0.0;  ///< 1/m
     /// Angle between the plane and the plane of focus (which is parallel to the sensor), degrees.

@@ -3,7 +3,7 @@
 /// The depth-of-field report: one self-contained HTML file (no external resource) that says, for
 /// each analysed frame, what is in focus and why: the frame with its regions coloured by blur,
 /// the blur and sharpness maps, the blur against the distance from the in-focus line with the
-/// lecture's "V", the depth of field, both readings of the scene's tilt and a table per region.
+/// thin-lens "V", the depth of field, both readings of the scene's tilt and a table per region.
 #pragma once
 
 #include <cstdint>

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file sim.h
-/// The simulated camera `sim:`: textured scenes at known depths rendered through a thin lens
-/// with the uniform-disc defocus PSF of the lecture, and its ground truth (true depth, true blur
-/// width, true in-focus distance) for tests that check measurements against it.
+/// The simulated camera `sim:`: textured scenes at known depths rendered through a thin lens,
+/// whose PSF is the uniform defocus disc convolved with a diffraction core, and its ground truth
+/// (true depth, true blur width, true in-focus distance) for tests that check measurements
+/// against it.
 ///
 /// Source string options (all optional):
 ///   scene=plane|steps|tilted|edges   what is in front of the camera (default plane)
@@ -17,11 +18,22 @@
 /// The default lens is a Raspberry Pi Camera Module 3. The output image is the full sensor scaled
 /// to `size`, so the pixel pitch is pitch × sensor width / output width.
 ///
+/// The PSF is the defocus disc of diameter ΔX_i = A·|z_s(1/f − 1/z_o) − 1| (optics::blurWidth)
+/// convolved with a Gaussian of σ = 0.42·λ·N, λ = 550 nm, the usual fit to the core of the Airy
+/// pattern (Airy disc diameter 2.44·λ·N). The texture holds each pixel's area average of the
+/// sharp scene (the sensor's pixel integration) and is blurred as a continuous image (cubic
+/// interpolation that adds no blur), so defocus far below a pixel still softens the image and a
+/// focus measure rises and falls smoothly through focus.
+///
 /// Model limits (documented simplifications): the texture is fixed in image space (no change of
-/// magnification with focus or depth); each output pixel is blurred with the disc of its own
+/// magnification with focus or depth); each output pixel is blurred with the PSF of its own
 /// depth (a gather), which is exact inside a constant-depth region and approximate within one
-/// blur radius of a depth step; disc diameters are rendered in steps of kSimDiameterStepPx and
-/// capped at kSimMaxDiameterPx.
+/// blur radius of a depth step; disc diameters are rendered in steps of kSimDiameterStepPx
+/// (a focus change smaller than that renders the same frame) and capped at kSimMaxDiameterPx;
+/// diffraction is one wavelength and a Gaussian core (no Airy rings, no colour); the disc is
+/// uniform (no aberrations, vignetting or cat's-eye shapes off axis); the texture itself is
+/// sampled at the output pixels, so detail finer than a pixel is absent (no aliasing); the
+/// cubic's small negative lobes can overshoot a sharp edge slightly under sub-pixel blur.
 #pragma once
 
 #include <cstdint>
@@ -34,6 +46,8 @@
 #include "infocus/error.h"
 #include "infocus/frame.h"
 #include "infocus/image.h"
+#include "infocus/lens_presets.h"
+#include "infocus/optics.h"
 
 namespace infocus {
 
@@ -41,26 +55,33 @@ namespace infocus {
 inline constexpr double kSimDiameterStepPx = 1.0 / 16.0;
 /// Largest disc diameter rendered (pixels); larger blur is clipped to it.
 inline constexpr double kSimMaxDiameterPx = 64.0;
+/// Wavelength of the simulated light, for the diffraction core: green, 550 nm.
+inline constexpr double kSimWavelengthM = optics::kDefaultWavelength;
 
 /// A thin lens in front of a sensor.
 struct SimLens {
-    double focalLengthM = 4.74e-3;      ///< f
-    double fNumber = 1.8;               ///< N
-    double sensorPixelPitchM = 1.4e-6;  ///< pixel pitch at full sensor resolution
-    Size sensorSize{4608, 2592};        ///< full sensor resolution, pixels
+    /// The default lens: the rpi-cam3 preset (lens_presets.h).
+    SimLens();
+    /// The lens and sensor of @p preset (a preset without a sensor leaves pitch and size 0).
+    explicit SimLens(const optics::LensPreset& preset);
 
+    double focalLengthM = 0.0;       ///< f
+    double fNumber = 0.0;            ///< N
+    double sensorPixelPitchM = 0.0;  ///< pixel pitch at full sensor resolution
+    Size sensorSize;                 ///< full sensor resolution, pixels
+
+    /// The lens as the optics model sees it.
+    optics::ThinLens thinLens() const { return {focalLengthM, fNumber}; }
     /// Aperture diameter A = f/N, metres.
-    double apertureM() const { return focalLengthM / fNumber; }
+    double apertureM() const { return thinLens().aperture(); }
     /// Pixel pitch of an image of @p widthPx covering the whole sensor, metres.
     double pixelPitchM(int widthPx) const { return sensorPixelPitchM * sensorSize.width / widthPx; }
 };
 
-/// Sensor distance z_s behind the lens that focuses at @p focusDioptres (1/u, from the lens):
-/// 1/z_s = 1/f − 1/u. nullopt when the focus is at or inside the focal length.
-std::optional<double> simSensorDistanceM(const SimLens& lens, double focusDioptres);
-
-/// Lecture formula: disc diameter ΔX_i = A·|z_s(1/f − 1/z_o) − 1| on the sensor (metres) of a
-/// point at @p depthM from the lens. nullopt where simSensorDistanceM has no answer.
+/// The thin-lens disc diameter ΔX_i = A·|z_s(1/f − 1/z_o) − 1| on the sensor (metres) of a point
+/// at @p depthM from the lens with the lens focused at @p focusDioptres (1/u; 0 is infinity):
+/// optics::blurWidth at optics::sensorDistanceForFocus. nullopt when the focus is at or inside
+/// the focal length or the depth is not positive.
 std::optional<double> simBlurDiameterM(const SimLens& lens, double focusDioptres, double depthM);
 
 /// The scenes of the simulated camera.
@@ -93,7 +114,7 @@ Result<SimConfig> parseSimOptions(const std::map<std::string, std::string>& opti
 struct SimRegion {
     Rect rect;
     double depthM = 0.0;          ///< depth at the region's centre, metres from the lens
-    double blurDiameterPx = 0.0;  ///< lecture ΔX_i at that depth, in output pixels (uncapped)
+    double blurDiameterPx = 0.0;  ///< geometric ΔX_i at that depth, output pixels (uncapped)
 };
 
 /// Renders a scene; holds the ground truth. Deterministic for a given config.
@@ -106,11 +127,17 @@ public:
     const SimConfig& config() const { return config_; }
     /// Depth of the scene point seen by output pixel (x, y), metres from the lens.
     double depthAtM(int x, int y) const;
-    /// True blur diameter (lecture ΔX_i) at pixel (x, y) for @p focusDioptres, output pixels.
+    /// True geometric blur diameter ΔX_i (the defocus disc alone, without diffraction) at pixel
+    /// (x, y) for @p focusDioptres, output pixels.
     double blurDiameterPxAt(int x, int y, double focusDioptres) const;
     /// The diameter the renderer actually uses at (x, y): blurDiameterPxAt quantised to
     /// kSimDiameterStepPx and capped at kSimMaxDiameterPx.
     double renderedDiameterPxAt(int x, int y, double focusDioptres) const;
+    /// Diameter of the Airy disc 2.44·λ·N in output pixels: the diffraction floor, the blur of a
+    /// point in focus. The rendered PSF is the disc convolved with its Gaussian core.
+    double airyDiameterPx() const;
+    /// σ of the Gaussian core the renderer convolves the disc with, 0.42·λ·N, output pixels.
+    double diffractionSigmaPx() const;
     /// The scene's regions: plane/edges one, steps one per plane, tilted a 16×9 grid.
     std::vector<SimRegion> regions(double focusDioptres) const;
     /// Distance from the lens that is in focus at @p focusDioptres (infinity for 0).

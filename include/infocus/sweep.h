@@ -2,7 +2,7 @@
 /// @file sweep.h
 /// Focus sweep: moves a motorised lens through a series of positions, measures every region at
 /// each, and finds where the whole frame and each region are sharpest (the `infocus sweep`
-/// contract in DESIGN.md).
+/// contract in docs/design.md).
 #pragma once
 
 #include <cstdint>
@@ -40,11 +40,11 @@ struct FocusPeak {
 std::optional<FocusPeak> findFocusPeak(std::span<const double> positions,
                                        std::span<const double> scores);
 
-/// A "V" fitted to a region's blur widths over the lens positions. The lecture's blur is linear
-/// in dioptric defocus, ΔX_i = A·z_s·|1/u − 1/z|, so over a lens in dioptres the disc diameter is
-/// b = k·|p − p0| (the blur engine has removed the pixel's own floor): p0 is where the region is
-/// in focus by its blur, k = A·z_s / pixel pitch. z_s changes with the focus by f²·Δp, so the
-/// two arms differ in slope by that share (a few per cent over a sweep of a few dioptres).
+/// A "V" fitted to a region's blur widths over the lens positions. The thin-lens model's blur is
+/// linear in dioptric defocus, ΔX_i = A·z_s·|1/u − 1/z|, so over a lens in dioptres the disc
+/// diameter is b = k·|p − p0| (the blur engine has removed the pixel's own floor): p0 is where the
+/// region is in focus by its blur, k = A·z_s / pixel pitch. z_s changes with the focus by f²·Δp, so
+/// the two arms differ in slope by that share (a few per cent over a sweep of a few dioptres).
 struct BlurVFit {
     double position = 0.0;        ///< p0, where the fitted blur vanishes (native unit)
     double slopePxPerUnit = 0.0;  ///< k, disc diameter in pixels per unit of position

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "infocus/image.h"
 
@@ -29,7 +30,7 @@ struct Psf {
 
     /// A Gaussian PSF of standard deviation @p sigmaPx (pixels).
     static Psf gaussian(double sigmaPx) { return {PsfShape::Gaussian, sigmaPx}; }
-    /// A uniform disc PSF of diameter @p diameterPx (pixels): the lecture's ΔX_i.
+    /// A uniform disc PSF of diameter @p diameterPx (pixels): the thin-lens model's ΔX_i.
     static Psf disc(double diameterPx) { return {PsfShape::Disc, diameterPx}; }
 
     /// σ of the PSF's projection on any line (Gaussian: σ; disc of diameter d: d/4).
@@ -121,6 +122,75 @@ Image<uint8_t> blurImage(const Luma8& image, const Psf& psf);
 
 /// Adds seeded Gaussian noise of standard deviation @p sigma grey levels to @p image, in place.
 void addNoise(Image<float>& image, double sigma, uint64_t seed);
+
+/// Fraction (0..1) of the pixel square centred at (@p cx, @p cy) covered by the disc of radius
+/// @p radiusPx centred at the origin: exact 0 or 1 where the square is wholly outside or inside,
+/// otherwise counted on @p subsamples × @p subsamples sub-pixel points.
+double discPixelCoverage(double cx, double cy, double radiusPx, int subsamples);
+
+/// A PSF as weights on whole pixels, split for a fast gather: the fully covered pixels of each
+/// row as runs (summed with row prefix sums, one subtraction a row) and the partly covered ones
+/// as single taps. Weights sum to 1.
+struct GatherKernel {
+    /// Columns a..b of row dy (offsets from the centre pixel) are fully covered.
+    struct Run {
+        int dy, a, b;
+    };
+    /// One partly covered pixel at offset (dx, dy) with weight w.
+    struct Tap {
+        int dy, dx;
+        double w;
+    };
+    double fullWeight = 0.0;  ///< weight of each pixel of a run (1 / disc area in pixels)
+    std::vector<Run> runs;
+    std::vector<Tap> taps;
+    /// Largest |dx| or |dy| the kernel reaches, pixels.
+    int extent() const;
+};
+
+/// The defocus PSF, a uniform disc of diameter @p discDiameterPx convolved with a Gaussian of
+/// σ @p sigmaPx (a diffraction core), as a GatherKernel for a texture whose pixels already hold
+/// the sharp scene's area average over each pixel (as paintDeadLeavesPixels paints it): the
+/// texture is read as a continuous image interpolated with Keys' cubic (a = −0.5, which passes
+/// through the samples and adds no second moment) and blurred by the PSF, weight(k) =
+/// ∫ PSF(u)·keys(k_x − u_x)·keys(k_y − u_y) du; the disc by an exact chord integral along x and
+/// the midpoint rule in θ (u_y = r sin θ) along y, the Gaussian by 7-point Gauss–Hermite. Both
+/// sizes 0 give the identity; any blur, however small, moves weight to the neighbours, so a
+/// 0.2 px and a 0.3 px disc differ. Weights near the disc's rim may be slightly negative.
+GatherKernel defocusGatherKernel(double discDiameterPx, double sigmaPx);
+
+/// Paints a natural-like texture directly at pixel resolution over @p image, filled first with
+/// grey 128: dead leaves with log-uniform radii between @p minRadiusPx and @p maxRadiusPx (equal
+/// numbers per octave, so edges at every scale) covering the image about three times, grey
+/// levels uniform in @p lo..@p hi, each disc's edge anti-aliased linearly across one pixel.
+/// Cheaper than paintDeadLeaves on a supersampled canvas; deterministic in @p seed.
+void paintDeadLeavesPixels(Image<float>& image, uint64_t seed, double minRadiusPx,
+                           double maxRadiusPx, float lo = 30.0f, float hi = 225.0f);
+
+/// Paints a slanted-edge chart at pixel resolution over @p image: on a @p bright ground, one
+/// @p dark square of side pitch/2 per @p pitchPx cell, rotated by @p angleDeg about
+/// (@p cx, @p cy), where a cell corner lies. A pixel's coverage is the product of its coverages
+/// along the chart's two axes, exact for axis-aligned edges on pixel boundaries.
+void paintSlantedSquaresPixels(Image<float>& image, double pitchPx, double angleDeg, double cx,
+                               double cy, float dark, float bright);
+
+/// Gaussian noise for a stream of frames: a fixed table of samples picked by a xorshift64
+/// generator, about 1 ns a pixel. Fresh noise per frame comes from a fresh stream state.
+class NoiseTable {
+public:
+    /// 65536 samples of N(0, σ²), @p sigma in grey levels, deterministic in @p seed.
+    NoiseTable(double sigma, uint64_t seed);
+    /// The next sample of the stream @p state (xorshift64, advanced in place; must not be 0).
+    float next(uint64_t& state) const {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        return samples_[state >> 48];
+    }
+
+private:
+    std::vector<float> samples_;
+};
 
 /// Rounds and clamps grey levels to 8 bits (view() of the result is a Luma8).
 Image<uint8_t> toLuma8(const Image<float>& image);

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file units.h
-/// Lengths written for people: the one place that decides how a distance or a sensor length is
-/// shown, so the CLI and the report print the same value the same way.
+/// Lengths written for people (part of the output, src/output): the one place that decides how
+/// a distance or a sensor length is shown, so the CLI and the report print the same value the
+/// same way.
 #pragma once
 
 #include <string>

@@ -1,16 +1,14 @@
 // SPDX-License-Identifier: MIT
 // `infocus dof`: a depth-of-field calculator on the thin-lens model (and its inverse: the focus
 // and f-number for a wanted near/far pair).
-#include <nlohmann/json.hpp>
-
-#include <cmath>
-#include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "commands.h"
 #include "infocus/dof.h"
+#include "infocus/output.h"
 #include "lens_options.h"
 
 namespace infocus::cli {
@@ -26,83 +24,6 @@ struct DofArgs {
     std::string nearText, farText;
     bool json = false;
 };
-
-using Json = nlohmann::ordered_json;
-
-// JSON has no infinity: an infinite distance is null, as DESIGN.md specifies for far_m.
-Json metres(double v) {
-    return std::isfinite(v) ? Json(v) : Json(nullptr);
-}
-
-std::string lensLine(const optics::ThinLens& lens) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%g mm f/%.3g", lens.focalLength * 1e3, lens.fNumber);
-    return buf;
-}
-
-Json resultJson(const optics::DofResult& r, const optics::DofInput& in,
-                const std::string& cocSource) {
-    Json j;
-    j["from"] = optics::distanceOriginName(in.from);
-    j["focal_length_m"] = in.lens.focalLength;
-    j["f_number"] = in.lens.fNumber;
-    j["focus_m"] = metres(r.focusDistance);
-    j["focus_from_lens_m"] = metres(r.focusFromLens);
-    j["sensor_distance_m"] = r.sensorDistance;
-    j["magnification"] = r.magnification;
-    j["coc_um"] = in.coc * 1e6;
-    j["coc_source"] = cocSource;
-    j["hyperfocal_m"] = r.hyperfocal;
-    j["hyperfocal_simple_m"] = r.hyperfocalSimple;
-    j["hyperfocal_near_m"] = r.hyperfocalNear;
-    j["near_m"] = metres(r.exact.nearLimit);
-    j["far_m"] = metres(r.exact.farLimit);
-    j["total_m"] = metres(r.exact.total());
-    j["front_m"] = metres(r.frontDepth);
-    j["rear_m"] = metres(r.rearDepth);
-    j["approx_near_m"] = metres(r.approximate.nearLimit);
-    j["approx_far_m"] = metres(r.approximate.farLimit);
-    j["wavelength_um"] = in.wavelength * 1e6;
-    j["airy_um"] = r.airyDisc * 1e6;
-    j["diffraction_limited"] = r.diffractionLimited;
-    j["diffraction_near_m"] = r.withDiffraction ? metres(r.withDiffraction->nearLimit) : Json();
-    j["diffraction_far_m"] = r.withDiffraction ? metres(r.withDiffraction->farLimit) : Json();
-    return j;
-}
-
-void printTable(const optics::DofResult& r, const optics::DofInput& in,
-                const std::string& cocSource) {
-    const std::string origin = in.from == optics::DistanceOrigin::Sensor ? "sensor" : "lens";
-    std::printf("%s focused at %s (distances from the %s)\n", lensLine(in.lens).c_str(),
-                formatDistance(r.focusDistance).c_str(), origin.c_str());
-    std::printf("circle of confusion %s (%s)\n\n", formatSensorLength(in.coc).c_str(),
-                cocSource.c_str());
-    std::printf("  near limit        %s\n", formatDistance(r.exact.nearLimit).c_str());
-    std::printf("  far limit         %s\n", formatDistance(r.exact.farLimit).c_str());
-    std::printf("  depth of field    %s", formatDistance(r.exact.total()).c_str());
-    std::printf("  (%s in front, %s behind)\n", formatDistance(r.frontDepth).c_str(),
-                formatDistance(r.rearDepth).c_str());
-    std::printf("  hyperfocal        %s  (focus there: sharp from %s to infinity)\n",
-                formatDistance(r.hyperfocal).c_str(), formatDistance(r.hyperfocalNear).c_str());
-    std::printf("\n  exact thin-lens limits; H = f²/(Nc) + f. Common approximations:\n");
-    std::printf("  H' = f²/(Nc)      %s\n", formatDistance(r.hyperfocalSimple).c_str());
-    std::printf("  near ≈ H'u/(H'+u) %s\n", formatDistance(r.approximate.nearLimit).c_str());
-    std::printf("  far  ≈ H'u/(H'−u) %s\n", formatDistance(r.approximate.farLimit).c_str());
-    const double airyInCoc = r.airyDisc / in.coc;
-    char ratio[32];  // two decimals; past 1000 an exponent (f/1e300 gave 300 digits)
-    std::snprintf(ratio, sizeof ratio, airyInCoc < 1e3 ? "%.2f" : "%.3g", airyInCoc);
-    std::printf("\n  diffraction       Airy disc %s at %g nm (2.44 λN), %s × the CoC\n",
-                formatSensorLength(r.airyDisc).c_str(), in.wavelength * 1e9, ratio);
-    if (r.withDiffraction)
-        std::printf("  with diffraction  %s to %s  (defocus² + Airy² ≤ CoC²)\n",
-                    formatDistance(r.withDiffraction->nearLimit).c_str(),
-                    formatDistance(r.withDiffraction->farLimit).c_str());
-    if (r.diffractionLimited)
-        std::printf(
-            "  warning: at f/%g the Airy disc is larger than the circle of confusion: "
-            "nothing is sharp to this standard; open the aperture\n",
-            in.lens.fNumber);
-}
 
 int runDof(const DofArgs& args) {
     auto lens = args.lens.resolve();
@@ -124,6 +45,7 @@ int runDof(const DofArgs& args) {
     const double f = *lens->focalLength;
 
     const bool planning = !args.nearText.empty() || !args.farText.empty();
+    std::optional<DofWanted> wanted;  // the limits asked for, when planning
     if (planning) {
         if (args.nearText.empty() || args.farText.empty())
             return usageError(kName, "give both limits, e.g. --near 2m --far 5m (or --far inf)");
@@ -140,6 +62,7 @@ int runDof(const DofArgs& args) {
                                          "there; give a near limit well beyond the focal length");
         in.lens = {f, plan->fNumber};
         in.focusDistance = plan->focusDistance;
+        wanted = DofWanted{*nearD, *farD};
     } else {
         if (!lens->fNumber)
             return usageError(kName,
@@ -158,21 +81,10 @@ int runDof(const DofArgs& args) {
                                      " lens measured from the " + args.from +
                                      " (a thin lens needs 4f between object and sensor); "
                                      "focus farther");
-    if (args.json) {
-        Json j = resultJson(*r, in, lens->cocSource);
-        if (planning) {
-            j["wanted_near_m"] = metres(*parseFocus(args.nearText, "--near"));
-            j["wanted_far_m"] = metres(*parseFocus(args.farText, "--far"));
-        }
-        std::cout << j.dump() << std::endl;
-        return 0;
-    }
-    if (planning)
-        std::printf("For sharpness from %s to %s: focus at %s and stop down to f/%.3g\n\n",
-                    formatDistance(*parseFocus(args.nearText, "--near")).c_str(),
-                    formatDistance(*parseFocus(args.farText, "--far")).c_str(),
-                    formatDistance(in.focusDistance).c_str(), in.lens.fNumber);
-    printTable(*r, in, lens->cocSource);
+    if (args.json)
+        std::cout << dofJson(*r, in, lens->cocSource, wanted) << std::endl;
+    else
+        writeDofText(std::cout, *r, in, lens->cocSource, wanted);
     return 0;
 }
 

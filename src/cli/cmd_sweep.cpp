@@ -1,21 +1,17 @@
 // SPDX-License-Identifier: MIT
 // `infocus sweep`: moves a motorised lens through its range, measures every position, and
 // leaves the lens where the frame is sharpest (include/infocus/sweep.h).
-#include <nlohmann/json.hpp>
-
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
-#include <vector>
 
 #include "commands.h"
+#include "infocus/output.h"
 #include "infocus/sweep.h"
 #include "lens_options.h"
 #include "parse.h"
@@ -40,8 +36,6 @@ struct SweepArgs {
     bool json = false;
 };
 
-using Json = nlohmann::ordered_json;
-
 // A position given on the command line, in the control's unit. A dioptre control takes a
 // distance or dioptres with their unit ("1.2m", "0.8dpt", "inf"), as --focus does; a control in
 // the driver's own steps takes a plain number.
@@ -62,138 +56,6 @@ Result<double> parsePosition(const std::string& text, const std::string& option,
                                                "), not in distances; give a number in that range");
     }
     return v;
-}
-
-// "1.002 dpt", or a number in the driver's unit.
-std::string positionText(double v, const std::string& unit) {
-    char buf[48];
-    if (unit == "dioptre")
-        std::snprintf(buf, sizeof buf, "%.3f dpt", v);
-    else
-        std::snprintf(buf, sizeof buf, "%g %s", v, unit.c_str());
-    return buf;
-}
-
-// The distance in focus at @p dioptres, for people ("infinity" at 0).
-std::string inFocusText(double dioptres) {
-    return formatDistance(dioptres > 0 ? 1.0 / dioptres : HUGE_VAL);
-}
-
-// JSON of a distance in focus: metres, null for infinity (as dof --json writes far_m).
-Json inFocusJson(std::optional<double> dioptres) {
-    if (!dioptres) return nullptr;
-    return *dioptres > 0 ? Json(1.0 / *dioptres) : Json(nullptr);
-}
-
-// The upper median of @p v (not empty).
-double median(std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-}
-
-// Median blur width (disc diameter) over the regions that have one, and how many do.
-std::pair<std::optional<double>, int> medianBlur(const FrameAnalysis& a) {
-    std::vector<double> w;
-    for (const RegionResult& r : a.regions)
-        if (r.blurWidthPx) w.push_back(*r.blurWidthPx);
-    if (w.empty()) return {std::nullopt, 0};
-    return {median(w), static_cast<int>(w.size())};
-}
-
-std::optional<double> dioptresOf(double position, const std::string& unit) {
-    if (unit == "dioptre") return position;
-    return std::nullopt;
-}
-
-Json peakJson(const std::optional<FocusPeak>& p, const std::string& unit) {
-    if (!p) return nullptr;
-    Json j;
-    j["position"] = p->position;
-    j["unit"] = unit;
-    const auto d = dioptresOf(p->position, unit);
-    j["dioptres"] = d ? Json(*d) : Json(nullptr);
-    j["in_focus_distance_m"] = inFocusJson(d);
-    j["sharpness"] = p->score;
-    j["at_end"] = p->atEnd;
-    j["prominence"] = p->prominence;
-    return j;
-}
-
-Json summaryJson(const std::string& source, const SweepResult& r, int settle) {
-    const std::string& unit = r.range.unit;
-    Json j;
-    j["source"] = source;
-    j["unit"] = unit;
-    j["range"] = {{"min", r.range.min}, {"max", r.range.max}, {"step", r.range.step}};
-    j["settle_frames"] = settle;
-    Json steps = Json::array();
-    for (const SweepStep& s : r.steps) {
-        const auto [blur, withBlur] = medianBlur(s.analysis);
-        steps.push_back({{"pass", s.pass},
-                         {"commanded", s.commanded},
-                         {"lens_position",
-                          {{"value", s.lens.value},
-                           {"unit", s.lens.unit},
-                           {"dioptres", s.lens.dioptres ? Json(*s.lens.dioptres) : Json(nullptr)}}},
-                         {"frame", s.analysis.frame},
-                         {"frame_sharpness", s.analysis.frameSharpness},
-                         {"median_blur_width_px", blur ? Json(*blur) : Json(nullptr)},
-                         {"regions_with_blur", withBlur}});
-    }
-    j["steps"] = steps;
-    j["best"] = peakJson(r.best, unit);
-    Json regions = Json::array();
-    const FrameAnalysis* first = r.steps.empty() ? nullptr : &r.steps.front().analysis;
-    for (size_t i = 0; first && i < r.regionBest.size() && i < first->regions.size(); ++i) {
-        const RegionResult& reg = first->regions[i];
-        Json e = {{"col", reg.col},  {"row", reg.row},  {"x", reg.rect.x},
-                  {"y", reg.rect.y}, {"w", reg.rect.w}, {"h", reg.rect.h}};
-        e["best"] = peakJson(r.regionBest[i], unit);
-        const std::optional<BlurVFit> fit =
-            i < r.regionBlurFit.size() ? r.regionBlurFit[i] : std::nullopt;
-        if (fit) {
-            const auto d = dioptresOf(fit->position, unit);
-            e["blur_fit"] = {{"position", fit->position},
-                             {"dioptres", d ? Json(*d) : Json(nullptr)},
-                             {"in_focus_distance_m", inFocusJson(d)},
-                             {"slope_px_per_unit", fit->slopePxPerUnit},
-                             {"rms_px", fit->rmsPx},
-                             {"points", fit->points}};
-        } else {
-            e["blur_fit"] = nullptr;
-        }
-        regions.push_back(e);
-    }
-    j["metric"] = first ? first->metric : std::string();
-    j["regions"] = regions;
-    if (r.finalPosition)
-        j["lens_left_at"] = {{"value", r.finalPosition->value}, {"unit", r.finalPosition->unit}};
-    else
-        j["lens_left_at"] = nullptr;
-    return j;
-}
-
-// One line per row of regions, each cell from @p cell (empty: "-").
-void printRegionGrid(const SweepResult& r, const std::function<std::string(size_t region)>& cell) {
-    if (r.steps.empty()) return;
-    const FrameAnalysis& a = r.steps.front().analysis;
-    int cols = 0, rows = 0;
-    for (const RegionResult& reg : a.regions)
-        cols = std::max(cols, reg.col + 1), rows = std::max(rows, reg.row + 1);
-    std::vector<std::string> cells(static_cast<size_t>(cols) * rows, "-");
-    for (size_t i = 0; i < a.regions.size(); ++i)
-        if (std::string c = cell(i); !c.empty())
-            cells[static_cast<size_t>(a.regions[i].row) * cols + a.regions[i].col] = std::move(c);
-    for (int row = 0; row < rows; ++row) {
-        for (int col = 0; col < cols; ++col)
-            std::printf("%12s", cells[static_cast<size_t>(row) * cols + col].c_str());
-        std::printf("\n");
-    }
-}
-
-// A position for a grid cell: the distance in focus for a dioptre control.
-std::string cellText(double position, const std::string& unit) {
-    return unit == "dioptre" ? inFocusText(position) : positionText(position, unit);
 }
 
 int runSweepCommand(const SweepArgs& args) {
@@ -249,13 +111,8 @@ int runSweepCommand(const SweepArgs& args) {
     const int settle = args.settle.value_or(control->settleFrames());
     // Said with the first position measured, once the sweep's options have been accepted.
     const auto printHeader = [&] {
-        std::printf("sweep of %s: lens %s to %s, %d positions", args.source.c_str(),
-                    positionText(options.from.value_or(range.min), range.unit).c_str(),
-                    positionText(options.to.value_or(range.max), range.unit).c_str(), args.steps);
-        if (args.refine) std::printf(", then %d about the sharpest", args.refine);
-        std::printf("; %d frame(s) discarded after each move\n", settle);
-        std::printf("%5s %14s %12s %16s %22s\n", "pass", "lens", "in focus at", "frame sharpness",
-                    "blur px (median, n)");
+        writeSweepHeader(std::cout, args.source, range, options.from.value_or(range.min),
+                         options.to.value_or(range.max), args.steps, args.refine, settle);
     };
     if (auto s = src.start(); !s) return reportError(cmd, s.error());
     size_t written = 0;
@@ -274,14 +131,8 @@ int runSweepCommand(const SweepArgs& args) {
             return {};
         }
         if (written++ == 0) printHeader();
-        const auto [blur, n] = medianBlur(s.analysis);
-        const auto d = s.lens.dioptres;
-        char blurText[32] = "-";
-        if (blur) std::snprintf(blurText, sizeof blurText, "%.2f (%d)", *blur, n);
-        std::printf("%5d %14s %12s %16.6g %22s\n", s.pass + 1,
-                    positionText(s.lens.value, s.lens.unit).c_str(),
-                    d ? inFocusText(*d).c_str() : "-", s.analysis.frameSharpness, blurText);
-        std::fflush(stdout);
+        writeSweepStep(std::cout, s);
+        std::cout.flush();
         return {};
     });
     src.stop();
@@ -292,10 +143,9 @@ int runSweepCommand(const SweepArgs& args) {
                       << "\n";
         return reportError(cmd, result.error());
     }
-    const Json summary = summaryJson(args.source, *result, settle);
     if (jsonl.is_open()) {
         std::ofstream f(dir / "summary.json", std::ios::out | std::ios::trunc);
-        f << summary.dump(2) << '\n';
+        f << sweepSummaryJson(args.source, *result, settle, 2) << '\n';
         f.flush();
         if (!f)
             return reportError(
@@ -303,7 +153,7 @@ int runSweepCommand(const SweepArgs& args) {
                                                   " failed; the measurements are in sweep.jsonl"));
     }
     if (args.json) {
-        std::cout << summary.dump() << '\n';
+        std::cout << sweepSummaryJson(args.source, *result, settle) << '\n';
         std::cout.flush();
         return std::cout ? 0
                          : reportError(
@@ -317,40 +167,8 @@ int runSweepCommand(const SweepArgs& args) {
         return kExitFailure;
     }
     const FocusPeak& best = *result->best;
-    std::printf("best focus: %s", positionText(best.position, range.unit).c_str());
-    if (const auto d = dioptresOf(best.position, range.unit))
-        std::printf(" (in focus at %s from the lens)", inFocusText(*d).c_str());
-    std::printf(
-        ", frame sharpness %.6g, %.0f %% above the sweep's lowest; %s\n", best.score,
-        100.0 * best.prominence,
-        options.moveToBest ? "the lens is left there" : "the lens stays at the last position");
-    const std::string& unit = range.unit;
-    std::printf("sharpest position of each region (%s; * at the sweep's end):\n",
-                unit == "dioptre" ? "distance in focus" : unit.c_str());
-    printRegionGrid(*result, [&](size_t i) -> std::string {
-        if (i >= result->regionBest.size() || !result->regionBest[i]) return {};
-        const FocusPeak& p = *result->regionBest[i];
-        return cellText(p.position, unit) + (p.atEnd ? "*" : "");
-    });
-    std::vector<double> slopes, rms;
-    for (const auto& f : result->regionBlurFit)
-        if (f) slopes.push_back(f->slopePxPerUnit), rms.push_back(f->rmsPx);
-    if (!slopes.empty()) {
-        std::printf(
-            "where each region's blur width vanishes (a V fitted to its blur widths, "
-            "%s):\n",
-            unit == "dioptre" ? "distance in focus" : unit.c_str());
-        printRegionGrid(*result, [&](size_t i) -> std::string {
-            if (i >= result->regionBlurFit.size() || !result->regionBlurFit[i]) return {};
-            return cellText(result->regionBlurFit[i]->position, unit);
-        });
-        std::printf(
-            "blur widths grow %.3g px per %s of defocus (median of %zu regions; RMS of "
-            "the fits %.2g px)\n",
-            median(slopes), unit == "dioptre" ? "dioptre" : unit.c_str(), slopes.size(),
-            median(rms));
-    }
-    std::fflush(stdout);
+    writeSweepSummary(std::cout, *result, options.moveToBest);
+    std::cout.flush();
     if (best.atEnd)
         std::fprintf(stderr,
                      "infocus sweep: the sharpest position is the sweep's %s one: the best focus "

@@ -11,31 +11,13 @@
 #include <limits>
 
 #include "infocus/dof.h"
+#include "infocus/lens_presets.h"
 
 namespace infocus::cli {
 
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// Lenses by their published specifications: Raspberry Pi camera modules (v1 OV5647 3.60 mm f/2.9,
-// v2 IMX219 3.04 mm f/2.0, Module 3 IMX708 4.74 mm f/1.8 and wide 2.75 mm f/2.2) and the HQ camera
-// (IMX477) with the official 6 mm f/1.2 CS-mount and 16 mm f/1.4 C-mount lenses.
-const std::array<LensPreset, 7> kLenses{{
-    {"rpi-cam1", "Raspberry Pi Camera Module v1, 3.60 mm f/2.9, 1.4 um pixels", 3.60e-3, 2.9,
-     1.4e-6, "rpi-cam1"},
-    {"rpi-cam2", "Raspberry Pi Camera Module v2, 3.04 mm f/2.0, 1.12 um pixels", 3.04e-3, 2.0,
-     1.12e-6, "rpi-cam2"},
-    {"rpi-cam3", "Raspberry Pi Camera Module 3, 4.74 mm f/1.8, 1.4 um pixels", 4.74e-3, 1.8, 1.4e-6,
-     "rpi-cam3"},
-    {"rpi-cam3-wide", "Raspberry Pi Camera Module 3 Wide, 2.75 mm f/2.2, 1.4 um pixels", 2.75e-3,
-     2.2, 1.4e-6, "rpi-cam3"},
-    {"rpi-hq-6mm", "Raspberry Pi HQ Camera with the 6 mm f/1.2 lens, 1.55 um pixels", 6e-3, 1.2,
-     1.55e-6, "rpi-hq"},
-    {"rpi-hq-16mm", "Raspberry Pi HQ Camera with the 16 mm f/1.4 lens, 1.55 um pixels", 16e-3, 1.4,
-     1.55e-6, "rpi-hq"},
-    {"full-frame-50mm", "a 50 mm f/1.8 lens on a 36 x 24 mm sensor", 50e-3, 1.8, 0.0, "full-frame"},
-}};
 
 std::string lower(std::string_view s) {
     std::string out(s);
@@ -72,7 +54,7 @@ std::string quoted(std::string_view option, std::string_view text) {
 
 std::string listLenses() {
     std::string names;
-    for (const auto& l : kLenses)
+    for (const auto& l : optics::lensPresets())
         names += (names.empty() ? "" : ", ") + std::string(l.name);
     return names;
 }
@@ -144,17 +126,6 @@ Result<double> parseFNumber(std::string_view text, std::string_view option) {
     return parts->first;
 }
 
-std::span<const LensPreset> lensPresets() {
-    return kLenses;
-}
-
-const LensPreset* findLensPreset(std::string_view name) {
-    const std::string n = lower(name);
-    for (const auto& l : kLenses)
-        if (l.name == n) return &l;
-    return nullptr;
-}
-
 void LensOptions::add(CLI::App* app, LensOptionSet set) {
     CLI::Option_group* lens = app->add_option_group("Lens");
     lens->add_option("--focal", focal_, "Focal length, e.g. 50mm")->type_name("LENGTH");
@@ -183,7 +154,7 @@ void LensOptions::add(CLI::App* app, LensOptionSet set) {
 Result<LensValues> LensOptions::resolve() const {
     LensValues v;
     if (!lens_.empty()) {
-        v.preset = findLensPreset(lens_);
+        v.preset = optics::findLensPreset(lens_);
         if (!v.preset) return usage("--lens " + lens_ + ": unknown preset; choose " + listLenses());
         v.focalLength = v.preset->focalLength;
         v.fNumber = v.preset->fNumber;

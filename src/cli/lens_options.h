@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @file lens_options.h
-/// The shared lens options of the CLI (DESIGN.md "Lens options"): --focal, --fnumber, --focus,
+/// The shared lens options of the CLI (docs/design.md, Lens options): --focal, --fnumber, --focus,
 /// --pixel-pitch, --coc, --lens PRESET. Values arrive as text and are parsed here, so a bad value
 /// gets a message that says what to type instead. Everything comes out in SI units.
 #pragma once
@@ -8,11 +8,11 @@
 #include <CLI/CLI.hpp>
 
 #include <optional>
-#include <span>
 #include <string>
 #include <string_view>
 
 #include "infocus/error.h"
+#include "infocus/lens_presets.h"
 #include "infocus/units.h"
 
 namespace infocus::cli {
@@ -28,22 +28,6 @@ Result<double> parseFocus(std::string_view text, std::string_view option);
 /// Parses an f-number: "8", "f/8", "f8", "F2.8". Must be positive.
 Result<double> parseFNumber(std::string_view text, std::string_view option);
 
-/// A camera module or lens with its sensor (the CLI's --lens names).
-struct LensPreset {
-    std::string_view name;         ///< e.g. "rpi-cam3"
-    std::string_view description;  ///< e.g. "Raspberry Pi Camera Module 3, 4.74 mm f/1.8"
-    double focalLength = 0.0;      ///< metres
-    double fNumber = 0.0;
-    double pixelPitch = 0.0;  ///< metres
-    std::string_view sensor;  ///< sensor preset name (for the circle of confusion)
-};
-
-/// All lens presets.
-std::span<const LensPreset> lensPresets();
-
-/// The lens preset named @p name (case-insensitive); nullptr when none.
-const LensPreset* findLensPreset(std::string_view name);
-
 /// Which lens options a command offers.
 struct LensOptionSet {
     bool coc = false;   ///< --coc, --sensor, --coc-px
@@ -58,7 +42,7 @@ struct LensValues {
     std::optional<double> pixelPitch;     ///< metres per pixel
     std::optional<double> coc;            ///< metres
     std::string cocSource;                ///< how the CoC was chosen, for the output
-    const LensPreset* preset = nullptr;
+    const optics::LensPreset* preset = nullptr;
 };
 
 /// The lens options of one subcommand: add() registers them, resolve() parses and checks them.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Depth of field from the lecture's blur model: the range of z_o with A z_s |1/z_o − 1/u| ≤ c.
+// Depth of field from the thin-lens blur model: the range of z_o with A z_s |1/z_o − 1/u| ≤ c.
 #include <algorithm>
 #include <array>
 #include <cctype>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Robust fit of the lecture's blur "V": measured blur = |p0 + p1 x + p2 y|.
+// Robust fit of the thin-lens model's blur "V": measured blur = |p0 + p1 x + p2 y|.
 //
 // The absolute value makes the problem non-linear, but once each sample's side of the in-focus
 // line is known it is ordinary weighted least squares on s_i·b_i. So: (1) least median of

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The thin-lens model of the lecture: conjugates, the homogeneous matrix, focus, blur, depth.
+// The thin-lens model (docs/optics.md): conjugates, the homogeneous matrix, focus, blur, depth.
 #include <cmath>
 #include <limits>
 

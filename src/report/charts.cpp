@@ -113,7 +113,7 @@ void ReportWriter::Impl::maps(std::string& h, const Entry& e) const {
     };
     h += "<figure>";
     grid(true);
-    h += "<figcaption>Blur width per region, pixels (disc diameter, the lecture's "
+    h += "<figcaption>Blur width per region, pixels (disc diameter, the thin-lens model's "
          "&Delta;X<sub>i</sub>; "
          "- : no usable edge).</figcaption></figure><figure>";
     grid(false);
@@ -190,7 +190,8 @@ void ReportWriter::Impl::vPlot(std::string& h, const Entry& e) const {
                  Y(std::min(q.b, bmax)), q.inlier ? "#258" : "none");
     h +=
         fmt("</svg><figcaption>Each region's blur against its distance from the in-focus line, "
-            "across it (filled: fitted, hollow: outlier). For a flat scene the lecture's blur is "
+            "across it (filled: fitted, hollow: outlier). For a flat scene the thin-lens model's "
+            "blur is "
             "|p<sub>0</sub> + p<sub>1</sub>x + p<sub>2</sub>y|: a V whose slope here is %.4g px of "
             "blur per px across the image. The green band is the circle of confusion (%.2f px): "
             "where the V stays inside it is the depth of field in the image.</figcaption></figure>",

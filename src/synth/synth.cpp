@@ -8,44 +8,13 @@
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 
+#include "rng.h"
+
 namespace infocus::synth {
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-// splitmix64: a tiny, well-mixed generator whose output is the same on every platform (the
-// standard distributions are not), so a seed names one image everywhere.
-class Rng {
-public:
-    explicit Rng(uint64_t seed) : state_(seed) {}
-    uint64_t next() {
-        uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    /// Uniform in [0, 1).
-    double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-    /// Standard normal (Box–Muller).
-    double normal() {
-        if (haveSpare_) {
-            haveSpare_ = false;
-            return spare_;
-        }
-        const double u1 = std::max(uniform(), 1e-300);
-        const double u2 = uniform();
-        const double r = std::sqrt(-2.0 * std::log(u1));
-        spare_ = r * std::sin(2.0 * kPi * u2);
-        haveSpare_ = true;
-        return r * std::cos(2.0 * kPi * u2);
-    }
-
-private:
-    uint64_t state_;
-    double spare_ = 0.0;
-    bool haveSpare_ = false;
-};
 
 double normalCdf(double z) {
     return 0.5 * std::erfc(-z / std::numbers::sqrt2);
@@ -95,19 +64,10 @@ cv::Mat psfKernel(const Psf& psf, int cellsPerPx) {
     const int half = static_cast<int>(std::ceil(r + 0.5));
     cv::Mat k(2 * half + 1, 2 * half + 1, CV_32F);
     // Area of the disc inside each cell, by 16 × 16 sub-cells.
-    constexpr int kSub = 16;
     double sum = 0.0;
     for (int j = -half; j <= half; ++j) {
         for (int i = -half; i <= half; ++i) {
-            int inside = 0;
-            for (int b = 0; b < kSub; ++b) {
-                const double y = j - 0.5 + (b + 0.5) / kSub;
-                for (int a = 0; a < kSub; ++a) {
-                    const double x = i - 0.5 + (a + 0.5) / kSub;
-                    inside += (x * x + y * y <= r * r);
-                }
-            }
-            const double v = static_cast<double>(inside) / (kSub * kSub);
+            const double v = discPixelCoverage(i, j, r, 16);
             k.at<float>(j + half, i + half) = static_cast<float>(v);
             sum += v;
         }

@@ -14,7 +14,7 @@ mkdir "$tmp/good" && cp "$src/pcb_003.JPG" "$src/pcb_006.JPG" "$tmp/good/"
 out=$("$bin" analyze "$tmp/good" --grid 4x3 2>"$tmp/err")
 st=$?
 [[ $st -eq 0 ]] && ok || bad "analyze good dir exited $st: $(cat "$tmp/err")"
-# Every contract field, on every frame and region (DESIGN.md "analyze JSONL").
+# Every contract field, on every frame and region (docs/design.md, analyze JSONL).
 if python3 - "$out" <<'PY'; then ok; else bad "JSONL contract"; fi
 import json, sys
 lines = sys.argv[1].strip().split("\n")

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `infocus bench` as a user runs it: the JSON contract (DESIGN.md "bench --json"), every operator
+# `infocus bench` as a user runs it: the JSON contract (docs/design.md, bench --json), every operator
 # and the blur engine timed beside their baselines, and the blur engine's scalar and AVX2 kernels
 # finding edges in the same regions. Timings are printed, never judged.
 # Usage: test_bench.sh PATH_TO_INFOCUS

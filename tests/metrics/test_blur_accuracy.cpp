@@ -22,7 +22,7 @@ TEST_CASE("disc blur: diameter within 5 % at several angles, 1 % noise", "[blur]
             const BlurEstimate b = measureWhole(img);
             INFO("d = " << d << " angle = " << angle);
             REQUIRE(b.discDiameterPx.has_value());
-            CHECK(*b.discDiameterPx == Approx(d).epsilon(0.05));  // DESIGN.md target: ±5 %
+            CHECK(*b.discDiameterPx == Approx(d).epsilon(0.05));  // target (docs/design.md): ±5 %
             CHECK(b.confidence > 0.5);
             CHECK(b.edgeCount >= 1);
         }
@@ -36,7 +36,7 @@ TEST_CASE("Gaussian blur: sigma within 3 % at several angles, 1 % noise", "[blur
             const BlurEstimate b = measureWhole(img);
             INFO("sigma = " << s << " angle = " << angle);
             REQUIRE(b.sigmaPx.has_value());
-            CHECK(*b.sigmaPx == Approx(s).epsilon(0.03));  // DESIGN.md target: ±3 %
+            CHECK(*b.sigmaPx == Approx(s).epsilon(0.03));  // target (docs/design.md): ±3 %
             // The 10–90 % rise of a Gaussian edge is 2.5631 σ; measured from two crossings of a
             // noisy ESF, so a looser 8 % (plus 0.15 px for the sharpest edges).
             REQUIRE(b.edgeWidthPx.has_value());
@@ -75,7 +75,8 @@ TEST_CASE("an edge reads its blur wherever it sits between pixels", "[blur]") {
     // spacing of 0.71 px, so there the ESF's samples depend on where the edge sits between pixels:
     // an engine whose bins are too coarse for those spacings can read right near 0.37 px and far
     // off at other offsets (1 px bins: a 2 px disc at 45° reads +0.2 % at 0.35 px, −21 % at 0.45 px
-    // and +15 % at 0 px). Every tenth of a pixel must meet the targets (DESIGN.md: disc ±5 %, σ ±3
+    // and +15 % at 0 px). Every tenth of a pixel must meet the targets (docs/design.md: disc ±5 %,
+    // σ ±3
     // %; 1 % noise).
     constexpr int n = 192;
     uint64_t seed = 900;

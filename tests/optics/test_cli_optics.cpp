@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // `infocus dof` and `infocus depth` as a user runs them: the built executable (path in $INFOCUS),
-// its exit status, its table and its JSON. The depth fixture is rendered here from the lecture's
+// its exit status, its table and its JSON. The depth fixture is rendered here from the thin-lens
 // formulas, not taken from the program's own output.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
@@ -212,7 +212,7 @@ TEST_CASE("depth refuses a record value analyze never writes, and names it", "[c
     CHECK(ok.status == 0);
 }
 
-TEST_CASE("depth on a blur map rendered from the lecture's model", "[cli]") {
+TEST_CASE("depth on a blur map rendered from the thin-lens model", "[cli]") {
     // 25 mm f/1.4 focused at 0.5 m, 3.45 µm pixels, 1920x1080, 16x9 regions; the scene plane
     // meets the axis at 0.52 m and is tilted 20° about the image's x axis (depth grows down).
     const double f = 25e-3, n = 1.4, u = 0.5, pitch = 3.45e-6, z0 = 0.52;

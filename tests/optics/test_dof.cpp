@@ -60,7 +60,8 @@ TEST_CASE("the same with every distance from the sensor plane", "[dof]") {
     CHECK(relErr(r->hyperfocal, (10466.0 + 2.0 / 3.0 + 50.0 * 10466.0 / 10416.0) * kMm) < 1e-4);
 }
 
-TEST_CASE("DoF limits are where the lecture's blur equals the circle of confusion", "[dof]") {
+TEST_CASE("DoF limits are where the thin-lens model's blur equals the circle of confusion",
+          "[dof]") {
     for (double f : {4.74 * kMm, 16 * kMm, 50 * kMm, 135 * kMm})
         for (double n : {1.4, 4.0, 11.0})
             for (double u : {0.3, 1.0, 3.0, 20.0}) {

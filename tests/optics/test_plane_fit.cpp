@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The in-focus plane fit on synthetic blur maps rendered from the lecture's model: a tilted scene
+// The in-focus plane fit on synthetic blur maps rendered from the thin-lens model: a tilted scene
 // plane seen through a known thin lens, blur per region from ΔX_i = A z_s |1/Z − 1/u|.
 #include <catch2/catch.hpp>
 
@@ -37,7 +37,7 @@ void planeOf(const Scene& s, double& a, double& b, double& c) {
 }
 
 // Renders a cols × rows blur map: each region centre's chief ray meets the scene plane at depth Z,
-// whose blur is the lecture's |ΔX_i|, in pixels.
+// whose blur is the thin-lens model's |ΔX_i|, in pixels.
 std::vector<BlurSample> render(const Scene& s, int cols, int rows, double noise,
                                double outlierFraction, uint32_t seed) {
     double a, b, c;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The thin-lens model against the lecture's formulas and hand-computed values.
+// The thin-lens model against the thin-lens formulas (docs/optics.md) and hand-computed values.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -38,7 +38,7 @@ TEST_CASE("conjugate distances satisfy 1/f = 1/z_o + 1/z_i and invert", "[thin_l
             REQUIRE(back);
             CHECK(relErr(*back, zo) < 1e-9);
         }
-    // The lecture's two special pairs: (0, 0, ∞) ↔ (0, 0, f).
+    // The thin-lens model's two special pairs: (0, 0, ∞) ↔ (0, 0, f).
     CHECK(*conjugateDistance(0.05, kInf) == 0.05);
     CHECK(std::isinf(*conjugateDistance(0.05, 0.05)));
     CHECK_FALSE(conjugateDistance(0.05, 0.04));  // virtual image: outside the model
@@ -51,7 +51,7 @@ TEST_CASE("conjugate points round-trip object -> image -> object", "[thin_lens]"
             const Point3 o{0.3 * k * f, -0.2 * k * f, k * f};
             const auto i = conjugatePoint(f, o);
             REQUIRE(i);
-            // Similar triangles of the lecture: X_i/z_i = X_o/z_o (through the lens centre).
+            // Similar triangles (docs/optics.md): X_i/z_i = X_o/z_o (through the lens centre).
             CHECK(relErr(i->x / i->z, o.x / o.z) < 1e-12);
             CHECK(relErr(i->y / i->z, o.y / o.z) < 1e-12);
             const auto back = conjugatePoint(f, *i);
@@ -62,7 +62,7 @@ TEST_CASE("conjugate points round-trip object -> image -> object", "[thin_lens]"
         }
 }
 
-TEST_CASE("magnification agrees with its three forms in the lecture", "[thin_lens]") {
+TEST_CASE("magnification agrees with its three forms in docs/optics.md", "[thin_lens]") {
     for (double f : kFocals)
         for (double k : kDistanceFactors) {
             const double zo = k * f;
@@ -81,7 +81,7 @@ TEST_CASE("the homogeneous projection matrix equals the closed form", "[thin_len
     const Mat4 m = projectionMatrix(f);
     const Mat4 want{{{f, 0, 0, 0}, {0, f, 0, 0}, {0, 0, f, 0}, {0, 0, 1, -f}}};
     CHECK(m == want);
-    // The lecture: M·M = f² I, so M is its own inverse up to scale.
+    // docs/optics.md: M·M = f² I, so M is its own inverse up to scale.
     const Mat4 sq = multiply(m, m);
     for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 4; ++c)
@@ -114,7 +114,7 @@ TEST_CASE("focus: in-focus plane for a sensor distance and back", "[thin_lens]")
         }
 }
 
-TEST_CASE("blur width: the lecture's two cases, the absolute form and a hand value",
+TEST_CASE("blur width: the thin-lens model's two cases, the absolute form and a hand value",
           "[thin_lens]") {
     const ThinLens lens{0.05, 2.0};  // A = 25 mm
     CHECK(lens.aperture() == Approx(0.025).epsilon(1e-15));

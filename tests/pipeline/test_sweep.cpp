@@ -347,7 +347,7 @@ TEST_CASE("a V fitted to blur widths finds where the blur vanishes", "[sweep]") 
 }
 
 TEST_CASE("a sweep's blur widths grow as the thin lens says", "[sweep][sim]") {
-    // Plane at 1 m, 16 mm f/2.8 at 1280 px: the lecture's ΔX_i = A·z_s·|1/u − 1/z| gives
+    // Plane at 1 m, 16 mm f/2.8 at 1280 px: the thin-lens model's ΔX_i = A·z_s·|1/u − 1/z| gives
     // k = A·z_s / pitch pixels a dioptre, z_s = 1/(1/f − 1 dpt).
     const double f = 0.016, A = f / 2.8, zs = 1.0 / (1.0 / f - 1.0);
     const double pitch = 1.4e-6 * 4608 / 1280;

@@ -548,8 +548,7 @@ TEST_CASE("playback options: seek, loop with monotonic timestamps, pacing") {
         while ((*o)->next().ok()) {
         }
         const double origMs = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
-        REQUIRE(origMs >= 159.0);
-        REQUIRE(origMs < 1000.0);  // generous upper bound for a loaded machine
+        REQUIRE(origMs >= 159.0);  // a lower bound only: a loaded machine may take longer
     }
     SECTION("bad options are usage errors") {
         // fps past a million, or below one frame in 11.6 days, would overflow the timestamps.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The HTML report against ground truth: the lecture's depth-of-field reference values, the
+// The HTML report against ground truth: the thin-lens model's depth-of-field reference values, the
 // simulated camera's known focus and tilt, and the regions' own blur against the CoC.
 #include <catch2/catch.hpp>
 
@@ -68,7 +68,7 @@ ReportOptics lens16(double cocPx = 2.0) {
 
 }  // namespace
 
-TEST_CASE("report: depth of field matches the lecture's reference values", "[report]") {
+TEST_CASE("report: depth of field matches the thin-lens model's reference values", "[report]") {
     // 50 mm, f/8, c = 0.030 mm, focus 10 m: H = 10 466.7 mm, near 5 114.6 mm, far 223 214 mm.
     FrameAnalysis a;
     a.width = 640;

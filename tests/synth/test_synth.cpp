@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The generator's images match the optics they claim: ESF rise constants from DESIGN.md, pixel
+// The generator's images match the optics they claim: ESF rise constants from docs/design.md, pixel
 // integration against an independent numerical integral, PSF moments, seeded noise.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -39,7 +39,7 @@ void moments(const Image<float>& img, double& mean, double& varX, double& varY) 
 
 }  // namespace
 
-TEST_CASE("edge spread rises 10-90 % as DESIGN.md states", "[synth]") {
+TEST_CASE("edge spread rises 10-90 % as docs/design.md states", "[synth]") {
     // Constants are given to 5 digits: relative tolerance 1e-4.
     for (double s : {0.5, 1.0, 3.7})
         CHECK(rise(Psf::gaussian(s)) == Approx(2.5631 * s).epsilon(1e-4));
@@ -164,4 +164,70 @@ TEST_CASE("shapes and conversions", "[synth]") {
     CHECK(int(l.at(2, 0)) == 255);
     const Image<float> back = toFloat(l.view());
     CHECK(back.at(2, 0) == 255.0f);
+}
+
+namespace {
+
+// Sum, and second moment along x, of a gather kernel's weights.
+std::pair<double, double> moments(const GatherKernel& k) {
+    double sum = 0, m2 = 0;
+    for (const auto& r : k.runs)
+        for (int x = r.a; x <= r.b; ++x) {
+            sum += k.fullWeight;
+            m2 += k.fullWeight * x * x;
+        }
+    for (const auto& t : k.taps) {
+        sum += t.w;
+        m2 += t.w * t.dx * t.dx;
+    }
+    return {sum, m2};
+}
+
+}  // namespace
+
+TEST_CASE("defocus gather kernel: identity in focus, exact second moment, sub-pixel discs") {
+    const GatherKernel id = defocusGatherKernel(0.0, 0.0);
+    REQUIRE(id.runs.empty());
+    REQUIRE(id.taps.size() == 1u);
+    CHECK(id.taps[0].w == Approx(1.0).epsilon(1e-12));
+    // The cubic interpolation adds no second moment, so the kernel's is the PSF's: d²/16 for a
+    // disc (a semicircle projection of radius d/2) plus σ² of the Gaussian.
+    for (double d : {0.2, 0.3, 0.7, 1.5, 4.0, 12.5, 40.0})
+        for (double sigma : {0.0, 0.08, 0.4}) {
+            const auto [sum, m2] = moments(defocusGatherKernel(d, sigma));
+            INFO("d " << d << " px, σ " << sigma << " px");
+            CHECK(sum == Approx(1.0).epsilon(1e-9));
+            CHECK(m2 == Approx(d * d / 16 + sigma * sigma).epsilon(2e-3).margin(1e-5));
+        }
+    // A 0.2 px and a 0.3 px disc differ: more weight leaves the centre pixel of the larger.
+    const auto centre = [](const GatherKernel& k) {
+        for (const auto& t : k.taps)
+            if (t.dx == 0 && t.dy == 0) return t.w;
+        return -1.0;
+    };
+    CHECK(centre(defocusGatherKernel(0.3, 0.0)) < centre(defocusGatherKernel(0.2, 0.0)) - 1e-3);
+    // The last pixel reached: radius 15 + 2 (the cubic) + 3.75 σ (the outer quadrature node).
+    CHECK(defocusGatherKernel(30.0, 0.1).extent() == 17);
+}
+
+TEST_CASE("disc pixel coverage and the noise table") {
+    CHECK(discPixelCoverage(0, 0, 2.0, 8) == 1.0);
+    CHECK(discPixelCoverage(5, 0, 2.0, 8) == 0.0);
+    // A disc of radius 0.3 inside the centre pixel: its area, π·0.09, to the sampling's 1 %.
+    CHECK(discPixelCoverage(0, 0, 0.3, 256) == Approx(M_PI * 0.09).epsilon(0.01));
+
+    const NoiseTable table(2.5, 9);
+    uint64_t state = 12345;
+    double sum = 0, sum2 = 0;
+    const int n = 200000;
+    for (int i = 0; i < n; ++i) {
+        const double v = table.next(state);
+        sum += v;
+        sum2 += v * v;
+    }
+    CHECK(sum / n == Approx(0.0).margin(0.03));
+    CHECK(std::sqrt(sum2 / n) == Approx(2.5).epsilon(0.02));
+    uint64_t a = 7, b = 7;
+    const NoiseTable same(2.5, 9);
+    CHECK(table.next(a) == same.next(b));
 }

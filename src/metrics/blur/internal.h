@@ -27,7 +27,7 @@ using detail::Kernels;
 // Variance of a 1 px box (the pixel's own area), px². Its projection on any edge normal is a
 // trapezoid of variance (cos²θ + sin²θ)/12 = 1/12, whatever the edge angle.
 constexpr double kPixelVariance = 1.0 / 12.0;
-// 10–90 % rise of a Gaussian edge per unit σ (DESIGN.md).
+// 10–90 % rise of a Gaussian edge per unit σ (docs/design.md).
 constexpr double kGaussianRisePerSigma = 2.5631;
 
 // Segment lengths tried per seed (halved from the longest down to 6 px: 48 → 6 is 4).

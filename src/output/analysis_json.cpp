@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The `infocus analyze` JSONL record (DESIGN.md "analyze JSONL"): writing and reading it back.
+// The `infocus analyze` JSONL record (docs/design.md, analyze JSONL): writing and reading it back.
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "infocus/analysis.h"
+#include "infocus/output.h"
 #include "src/core/read_number.h"
 
 namespace infocus {

@@ -1,0 +1,160 @@
+// SPDX-License-Identifier: MIT
+// The writers against their formats: the analyze JSONL (nulls for blur not measured, a round
+// trip), its CSV (header, one row per region, empty cells), a dof answer's JSON (null for
+// infinity) and the lengths written for people.
+#include <catch2/catch.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "infocus/output.h"
+
+using namespace infocus;
+using Json = nlohmann::json;
+
+namespace {
+
+// A 2x1 grid of a 640x480 frame: region 0 with every blur field, region 1 without an edge.
+FrameAnalysis twoRegions() {
+    FrameAnalysis a;
+    a.frame = 7;
+    a.timestampNs = 1'500'000'000;
+    a.width = 640;
+    a.height = 480;
+    a.metric = "teng";
+    a.frameSharpness = 0.25;
+    RegionResult sharp;
+    sharp.col = 0;
+    sharp.rect = {0, 0, 320, 480};
+    sharp.sharpness = 0.5;
+    sharp.edgeWidthPx = 1.75;
+    sharp.blurSigmaPx = 0.5;
+    sharp.blurWidthPx = 2.5;
+    sharp.confidence = 0.875;
+    RegionResult flat;
+    flat.col = 1;
+    flat.rect = {320, 0, 320, 480};
+    flat.sharpness = 0.125;
+    a.regions = {sharp, flat};
+    return a;
+}
+
+std::vector<std::string> lines(const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);)
+        out.push_back(l);
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("JSONL: blur not measured is null, and no lens position is null") {
+    const std::string line = toJsonLine(twoRegions());
+    CHECK(line.find('\n') == std::string::npos);
+    const Json j = Json::parse(line);
+    CHECK(j["frame"] == 7);
+    CHECK(j["timestamp_ns"] == 1'500'000'000);
+    CHECK(j["lens_position"].is_null());
+    CHECK(j["width"] == 640);
+    CHECK(j["height"] == 480);
+    REQUIRE(j["regions"].size() == 2);
+    const Json& flat = j["regions"][1];
+    CHECK(flat["x"] == 320);
+    CHECK(flat["w"] == 320);
+    CHECK(flat["edge_width_px"].is_null());
+    CHECK(flat["blur_sigma_px"].is_null());
+    CHECK(flat["blur_width_px"].is_null());
+    CHECK(flat["confidence"] == 0.0);
+    const Json& sharp = j["regions"][0];
+    CHECK(sharp["blur_width_px"] == 2.5);
+    CHECK(sharp["blur_sigma_px"] == 0.5);
+    CHECK(sharp["edge_width_px"] == 1.75);
+    CHECK(sharp["confidence"] == 0.875);
+}
+
+// The values are binary fractions: JSON keeps a double exactly, so they come back equal.
+TEST_CASE("JSONL: a line read back holds the fields written") {
+    FrameAnalysis a = twoRegions();
+    a.lens = LensPosition{2.0, "dioptre", 2.0};
+    a.noiseSigma = 1.5;
+    const auto back = parseJsonLine(toJsonLine(a));
+    REQUIRE(back);
+    CHECK(back->frame == 7);
+    CHECK(back->timestampNs == 1'500'000'000);
+    REQUIRE(back->lens);
+    CHECK(back->lens->value == 2.0);
+    CHECK(back->lens->unit == "dioptre");
+    CHECK(back->lens->dioptres == 2.0);
+    CHECK(back->metric == "teng");
+    CHECK(back->noiseSigma == 1.5);
+    CHECK(back->frameSharpness == 0.25);
+    REQUIRE(back->regions.size() == 2);
+    for (size_t i = 0; i < 2; ++i) {
+        const RegionResult& w = a.regions[i];
+        const RegionResult& r = back->regions[i];
+        CHECK(r.col == w.col);
+        CHECK(r.row == w.row);
+        CHECK(r.rect.x == w.rect.x);
+        CHECK(r.rect.w == w.rect.w);
+        CHECK(r.sharpness == w.sharpness);
+        CHECK(r.edgeWidthPx == w.edgeWidthPx);
+        CHECK(r.blurSigmaPx == w.blurSigmaPx);
+        CHECK(r.blurWidthPx == w.blurWidthPx);
+        CHECK(r.confidence == w.confidence);
+    }
+}
+
+TEST_CASE("JSONL: a malformed line fails naming the field") {
+    const auto r = parseJsonLine(R"({"frame": 0, "width": -3, "height": 2, "regions": []})");
+    REQUIRE_FALSE(r);
+    CHECK(r.error().kind == ErrorKind::Corrupt);
+    CHECK(r.error().message.find("\"width\"") != std::string::npos);
+}
+
+TEST_CASE("CSV: the header once, one row per region, empty cells for what is missing") {
+    std::ostringstream out;
+    writeAnalysisCsv(out, twoRegions(), true);
+    writeAnalysisCsv(out, twoRegions(), false);
+    const auto rows = lines(out.str());
+    REQUIRE(rows.size() == 1 + 2 * 2);
+    CHECK(rows[0] ==
+          "frame,timestamp_ns,lens_value,lens_unit,width,height,col,row,x,y,w,h,sharpness,"
+          "edge_width_px,blur_sigma_px,blur_width_px,confidence");
+    // No lens: its two cells empty; no edge: the three blur cells empty.
+    CHECK(rows[1] == "7,1500000000,,,640,480,0,0,0,0,320,480,0.5,1.75,0.5,2.5,0.875");
+    CHECK(rows[2] == "7,1500000000,,,640,480,1,0,320,0,320,480,0.125,,,,0");
+    CHECK(rows[3] == rows[1]);
+}
+
+TEST_CASE("dof JSON: an infinite far limit is null, the wanted limits only when asked") {
+    optics::DofInput in;
+    in.lens = {0.05, 8.0};
+    in.focusDistance = 10.0;
+    in.coc = 30e-6;
+    optics::DofResult r;
+    r.focusDistance = 10.0;
+    r.exact = {5.0, HUGE_VAL};
+    const Json j = Json::parse(dofJson(r, in, "--coc"));
+    CHECK(j["near_m"] == 5.0);
+    CHECK(j["far_m"].is_null());
+    CHECK(j["total_m"].is_null());
+    CHECK(j["coc_source"] == "--coc");
+    CHECK_FALSE(j.contains("wanted_near_m"));
+    const Json w = Json::parse(dofJson(r, in, "--coc", DofWanted{2.0, HUGE_VAL}));
+    CHECK(w["wanted_near_m"] == 2.0);
+    CHECK(w["wanted_far_m"].is_null());
+}
+
+TEST_CASE("distances for people") {
+    CHECK(formatDistance(HUGE_VAL) == "infinity");
+    CHECK(formatDistance(0.5123) == "512.3 mm");
+    CHECK(formatDistance(5.115) == "5.115 m");
+    CHECK(formatDistance(223.2) == "223.2 m");
+    CHECK(formatSensorLength(30e-6) == "30.0 µm");
+    CHECK(formatSensorLength(1.4e-3) == "1.40 mm");
+}
