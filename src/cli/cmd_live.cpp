@@ -186,6 +186,7 @@ int runLive(LiveArgs args) {
         to.seconds = args.seconds;
         if (args.frames > 0) to.frames = args.frames;
         to.stop = &gStop;
+        to.fromSim = args.source.empty() && source == "sim:";
         if (Status st = runTui(p, to); !st) rc = reportError(kName, st.error());
     }
 #endif

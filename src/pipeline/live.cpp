@@ -318,7 +318,6 @@ private:
     }
 
     void captureLoop() {
-        uint64_t serial = 0;
         Status end;
         for (;;) {
             {
@@ -340,7 +339,7 @@ private:
             const SourceStats stats = source_->stats();
             std::lock_guard lock(mutex_);
             if (slot_) ++skipped_;
-            slot_ = Captured{std::move(*frame), monotonicNs(), ++serial};
+            slot_ = Captured{std::move(*frame), monotonicNs(), ++captureSerial_};
             if (autofocusRunning_) afSlot_ = *slot_;
             dropped_ = stats.dropped;
             cv_.notify_all();
@@ -552,6 +551,9 @@ private:
     FocusControl* control_ = nullptr;
     FocusRange range_;
     std::atomic<double> commanded_{0.0};
+    // Frames the source has delivered; written by the capture thread under mutex_, and read by
+    // controls that run on that thread.
+    uint64_t captureSerial_ = 0;
 
     bool started_ = false;
     Clock::time_point start_;
@@ -610,8 +612,17 @@ Result<LensPosition> AutofocusSource::get() {
 }
 
 Status AutofocusSource::set(double value) {
-    Status st = p_.onCapture([&] { return p_.control_->set(value); });
-    if (st) p_.commanded_ = value;
+    // The frames captured before the move (one may still wait in the slot) must not count as
+    // the frames after it: the sweep's settle frames start from the move.
+    uint64_t before = 0;
+    Status st = p_.onCapture([&] {
+        before = p_.captureSerial_;
+        return p_.control_->set(value);
+    });
+    if (st) {
+        p_.commanded_ = value;
+        seen_ = std::max(seen_, before);
+    }
     return st;
 }
 

@@ -89,16 +89,18 @@ void Meter::add(double tS, double score) {
 }
 
 void Meter::resetPeak() {
+    resetAtS_ = history_.empty() ? 0.0 : history_.back().tS;
     peak_ = 0.0;
     peakSinceResetT_ = -1.0;
     pastPeak_ = false;
 }
 
 std::optional<HistoryPoint> Meter::historyPeak() const {
-    if (history_.empty()) return std::nullopt;
-    return *std::max_element(
-        history_.begin(), history_.end(),
-        [](const HistoryPoint& a, const HistoryPoint& b) { return a.score < b.score; });
+    // The highest point since the last reset (a reset forgets the old peak's marker too).
+    std::optional<HistoryPoint> best;
+    for (const HistoryPoint& p : history_)
+        if (p.tS > resetAtS_ && (!best || p.score > best->score)) best = p;
+    return best;
 }
 
 }  // namespace infocus::live_detail

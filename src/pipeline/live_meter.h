@@ -43,6 +43,7 @@ private:
     std::deque<double> diffs_;  // recent |score − previous score|
     std::deque<HistoryPoint> history_;
     double peakSinceResetT_ = -1.0;  // history time of the peak since reset
+    double resetAtS_ = -1.0;         // history time of the last reset
 };
 
 }  // namespace infocus::live_detail

@@ -65,8 +65,13 @@ void fillRegionsAndOptics(const FrameAnalysis& a, const LiveOptions& o,
     s.regionsInCoc = static_cast<int>(
         std::count_if(blurs.begin(), blurs.end(), [&](double b) { return b <= s.cocPx; }));
 
-    if (L.lens && L.cocM && focusDistanceM) {
-        if (auto dof = optics::exactLimits(*L.lens, *focusDistanceM, *L.cocM)) {
+    // Without a circle of confusion of its own, the depth of field is that of the default one
+    // in pixels (cocFromLens says which).
+    const std::optional<double> cocM = L.cocM  ? L.cocM
+                                       : pitch ? std::optional<double>(s.cocPx * *pitch)
+                                               : std::nullopt;
+    if (L.lens && cocM && focusDistanceM) {
+        if (auto dof = optics::exactLimits(*L.lens, *focusDistanceM, *cocM)) {
             s.dofNearM = dof->nearLimit;
             s.dofFarM = dof->farLimit;
         }

@@ -32,7 +32,7 @@ std::vector<std::shared_ptr<const LiveState>> nextStates(LivePipeline& p, int n)
     std::optional<uint64_t> last;
     if (auto s = p.state()) last = s->frame;
     while (static_cast<int>(out.size()) < n) {
-        auto s = p.waitForState(last, 2000ms);
+        auto s = p.waitForState(last, 10000ms);
         REQUIRE(s);
         last = s->frame;
         out.push_back(s);
@@ -71,7 +71,7 @@ TEST_CASE("autofocus through the live controls lands on the plane") {
     const auto deadline = std::chrono::steady_clock::now() + 60s;
     std::optional<uint64_t> last;
     while (std::chrono::steady_clock::now() < deadline) {
-        s = p->waitForState(last, 2000ms);
+        s = p->waitForState(last, 10000ms);
         REQUIRE(s);
         last = s->frame;
         if (s->autofocusRunning) sawRunning = true;
