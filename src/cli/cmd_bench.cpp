@@ -7,7 +7,7 @@
 #include <iostream>
 #include <memory>
 
-#include "bench/bench.h"
+#include "bench/bench_module.h"
 #include "commands.h"
 #include "infocus/luma.h"
 #include "infocus/source.h"
@@ -62,8 +62,8 @@ Result<std::vector<Image<uint8_t>>> readFrames(const std::string& source, uint64
 }
 
 // The blur engine's accuracy table: true vs measured width on synthetic edges.
-int runAccuracyTable(bool json) {
-    const auto& angles = bench::accuracyAngles();
+int runAccuracyTable(const bench::BenchModule& module, bool json) {
+    const auto& angles = module.accuracyAngles();
     if (!json) {
         std::printf(
             "blur accuracy: synthetic edges, pixel-integrated, 8-bit, contrast 150 grey levels\n");
@@ -73,7 +73,7 @@ int runAccuracyTable(bool json) {
         std::printf(" %7s  %s\n", "worst%", "target");
     }
     int misses = 0;
-    bench::runAccuracy([&](const bench::AccuracyRow& row) {
+    module.runAccuracy([&](const bench::AccuracyRow& row) {
         if (row.inTarget && !row.pass) ++misses;
         if (json) {
             nlohmann::ordered_json j;
@@ -116,7 +116,10 @@ int runAccuracyTable(bool json) {
 int runBench(const BenchArgs& args) {
     if (args.accuracy && args.imagesGiven)
         return usageError("bench", "--accuracy and --images each choose what to run; give one");
-    if (args.accuracy) return runAccuracyTable(args.json);
+    // The rows live in a module of their own, which brings OpenCV: loaded before any frame is read.
+    auto module = bench::loadBench("measuring this machine's speed");
+    if (!module) return reportError("bench", module.error());
+    if (args.accuracy) return runAccuracyTable(**module, args.json);
     bench::BenchOptions options;
     options.secondsPerCase = args.seconds;
     std::vector<Image<uint8_t>> frames;
@@ -168,10 +171,10 @@ int runBench(const BenchArgs& args) {
         std::fflush(stdout);
     };
     if (frames.empty()) {
-        bench::runAll(options, print);
+        (*module)->runAll(options, print);
         return 0;
     }
-    bench::benchBlurImages(options, args.images, frames, print);
+    (*module)->benchBlurImages(options, args.images, frames, print);
     if (damaged) {
         std::cerr << "infocus bench: " << damaged << " damaged frame(s) skipped, " << frames.size()
                   << " timed\n";
