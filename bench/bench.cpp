@@ -6,11 +6,6 @@
 
 namespace infocus::bench {
 
-const std::vector<std::string>& benchFamilies() {
-    static const std::vector<std::string> families{"sharpness", "mjpeg", "blur", "live"};
-    return families;
-}
-
 void runAll(const BenchOptions& options, const RowSink& sink) {
     const auto wanted = [&](const char* family) {
         return options.only.empty() || options.only == family;

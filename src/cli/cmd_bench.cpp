@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "bench/bench.h"
+#include "bench/bench_module.h"
 #include "commands.h"
 #include "infocus/luma.h"
 #include "infocus/source.h"
@@ -67,8 +67,8 @@ Result<std::vector<Image<uint8_t>>> readFrames(const std::string& source, uint64
 }
 
 // The blur engine's accuracy table: true vs measured width on synthetic edges.
-int runAccuracyTable(bool json) {
-    const auto& angles = bench::accuracyAngles();
+int runAccuracyTable(const bench::BenchModule& module, bool json) {
+    const auto& angles = module.accuracyAngles();
     if (!json) {
         std::printf(
             "blur accuracy: synthetic edges, pixel-integrated, 8-bit, contrast 150 grey levels\n");
@@ -78,7 +78,7 @@ int runAccuracyTable(bool json) {
         std::printf(" %7s  %s\n", "worst%", "target");
     }
     int misses = 0;
-    bench::runAccuracy([&](const bench::AccuracyRow& row) {
+    module.runAccuracy([&](const bench::AccuracyRow& row) {
         if (row.inTarget && !row.pass) ++misses;
         if (json) {
             nlohmann::ordered_json j;
@@ -204,9 +204,12 @@ void printLive(const bench::BenchRow& row, bool& headerShown) {
 int runBench(const BenchArgs& args) {
     if (args.accuracy && args.imagesGiven)
         return usageError("bench", "--accuracy and --images each choose what to run; give one");
-    if (args.accuracy) return runAccuracyTable(args.json);
     if (!args.only.empty() && args.imagesGiven)
         return usageError("bench", "--only and --images each choose what to run; give one");
+    // The rows live in a module of their own, which brings OpenCV: loaded before any frame is read.
+    auto module = bench::loadBench("measuring this machine's speed");
+    if (!module) return reportError("bench", module.error());
+    if (args.accuracy) return runAccuracyTable(**module, args.json);
     bench::BenchOptions options;
     options.secondsPerCase = args.seconds;
     options.liveSeconds = args.liveSeconds;
@@ -268,10 +271,10 @@ int runBench(const BenchArgs& args) {
         std::fflush(stdout);
     };
     if (frames.empty()) {
-        bench::runAll(options, print);
+        (*module)->runAll(options, print);
         return 0;
     }
-    bench::benchBlurImages(options, args.images, frames, print);
+    (*module)->benchBlurImages(options, args.images, frames, print);
     if (damaged) {
         std::cerr << "infocus bench: " << damaged << " damaged frame(s) skipped, " << frames.size()
                   << " timed\n";

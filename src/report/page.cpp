@@ -1,12 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The HTML depth-of-field report (include/infocus/report.h). Everything it draws is inline SVG
 // and one JPEG per frame as a data URI, so the file can be mailed or archived on its own.
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "area_resize.h"
 #include "html.h"
 #include "infocus/units.h"
 #include "report_impl.h"
@@ -40,19 +39,19 @@ svg{max-width:100%;height:auto}figure{margin:1em 0}figcaption{font-size:.85em;co
 
 Result<std::string> ReportWriter::Impl::thumbnail(const Luma8& luma) {
     if (luma.empty()) return std::string();
-    const cv::Mat full(luma.height, luma.width, CV_8UC1, const_cast<uint8_t*>(luma.data),
-                       static_cast<size_t>(luma.stride));
-    cv::Mat small = full;
+    Luma8 small = luma;
     if (luma.width > o.thumbnailWidth) {
         const int h = std::max(
             1, static_cast<int>(std::lround(double(luma.height) * o.thumbnailWidth / luma.width)));
-        cv::resize(full, small, cv::Size(o.thumbnailWidth, h), 0, 0, cv::INTER_AREA);
+        const Image<uint8_t> reduced = report_detail::resizeArea(luma, o.thumbnailWidth, h);
+        small = reduced.view();
     }
     if (!tj) tj = tjInitCompress();
     unsigned char* out = nullptr;
     unsigned long size = 0;
-    if (!tj || tjCompress2(tj, small.data, small.cols, static_cast<int>(small.step), small.rows,
-                           TJPF_GRAY, &out, &size, TJSAMP_GRAY, 85, TJFLAG_FASTDCT) != 0) {
+    if (!tj ||
+        tjCompress2(tj, small.data, small.width, static_cast<int>(small.stride), small.height,
+                    TJPF_GRAY, &out, &size, TJSAMP_GRAY, 85, TJFLAG_FASTDCT) != 0) {
         const std::string why = tj ? tjGetErrorStr2(tj) : "no JPEG compressor";
         if (out) tjFree(out);
         return makeError(ErrorKind::Io, "could not encode the frame for the report: " + why);
