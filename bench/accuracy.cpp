@@ -18,7 +18,7 @@ void runAccuracy(const AccuracySink& sink) {
     struct Case {
         synth::PsfShape shape;
         std::vector<double> sizes;
-        double lo, hi, tolerancePct;  // DESIGN.md targets
+        double lo, hi, tolerancePct;  // docs/design.md targets
     };
     const Case cases[] = {
         {synth::PsfShape::Disc, {1, 2, 3, 4, 6, 8, 12, 16, 20, 25, 30}, 2.0, 30.0, 5.0},

@@ -99,7 +99,7 @@ struct AccuracyRow {
     double noisePct = 0.0;                          ///< noise σ, percent of the edge contrast
     std::vector<std::optional<double>> measuredPx;  ///< per accuracyAngles(); empty: no edge
     double worstErrorPct = 0.0;                     ///< over the angles; 100 when one found no edge
-    double tolerancePct = 0.0;                      ///< DESIGN.md target for this model
+    double tolerancePct = 0.0;                      ///< docs/design.md target for this model
     bool inTarget = false;                          ///< size inside the target range
     bool pass = false;                              ///< worstErrorPct within tolerancePct
 };
