@@ -204,11 +204,21 @@ public:
 
     Status autofocus() override {
         if (Status st = canMove(); !st) return st;
-        std::lock_guard lock(mutex_);
-        if (autofocus_.joinable()) autofocus_.join();
-        autofocusRunning_ = true;
-        status_ = "autofocus: sweeping the lens";
-        autofocus_ = std::thread([this] { autofocusLoop(); });
+        std::thread finished;
+        {
+            std::lock_guard lock(mutex_);
+            // Checked again under the lock: two faces may ask at once.
+            if (autofocusRunning_)
+                return makeError(ErrorKind::Unsupported, "autofocus is already running");
+            if (stopping_) return makeError(ErrorKind::Io, "the live view is closing");
+            finished = std::move(autofocus_);
+            autofocusRunning_ = true;
+            status_ = "autofocus: sweeping the lens";
+            autofocus_ = std::thread([this] { autofocusLoop(); });
+        }
+        // The previous sweep has ended (it cleared autofocusRunning_); it is joined outside the
+        // lock, which its last step takes.
+        if (finished.joinable()) finished.join();
         return {};
     }
 

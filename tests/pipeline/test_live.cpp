@@ -65,6 +65,9 @@ TEST_CASE("autofocus through the live controls lands on the plane") {
     CHECK(first->hasFocusControl);
 
     REQUIRE(p->autofocus());
+    // A second request while the sweep runs is refused, and a manual move too.
+    CHECK_FALSE(p->autofocus());
+    CHECK_FALSE(p->focusStep(1));
     // The state keeps flowing while the sweep moves the lens.
     bool sawRunning = false;
     std::shared_ptr<const LiveState> s;
