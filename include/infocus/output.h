@@ -15,6 +15,7 @@
 #include "infocus/depth_map.h"
 #include "infocus/dof.h"
 #include "infocus/error.h"
+#include "infocus/live.h"
 #include "infocus/sweep.h"
 #include "infocus/units.h"
 
@@ -98,5 +99,12 @@ std::string dofJson(const optics::DofResult& r, const optics::DofInput& in,
 /// limits, the hyperfocal distance, the common approximations and the diffraction budget.
 void writeDofText(std::ostream& out, const optics::DofResult& r, const optics::DofInput& in,
                   std::string_view cocSource, const std::optional<DofWanted>& wanted = {});
+
+/// The state as the JSON object of `live --ui json` and the web view's /state (one line, no
+/// newline): frame, fps, dropped, skipped, latency_p50_ms, latency_p99_ms, score, peak,
+/// percent_of_peak, trend, past_peak, blur_px, blur_um, lens_position, in_focus_distance_m,
+/// coc_px, diffraction_px, regions_in_coc, dof_near_m, dof_far_m, in_focus_line, tilt_deg,
+/// history, grid and regions. Unknown values are null; an infinite distance is the string "inf".
+std::string liveStateJson(const LiveState& s);
 
 }  // namespace infocus

@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "infocus/devices.h"
 #include "infocus/live.h"
+#include "infocus/output.h"
 #include "infocus/units.h"
 #include "infocus_config.h"
 #include "lens_options.h"

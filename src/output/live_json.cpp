@@ -3,7 +3,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "infocus/live.h"
+#include "infocus/output.h"
 
 namespace infocus {
 
