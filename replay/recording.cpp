@@ -85,6 +85,15 @@ uint32_t headerCrc(const RecordHeader& h) {
     return replay::crc32(&h, offsetof(RecordHeader, headerCrc));
 }
 
+// The most pixel data one record can hold: three planes of up to 4 GiB each.
+constexpr uint64_t kMaxPayloadBytes = 3ull * UINT32_MAX;
+
+// Whether the record with header @p h fits in the @p left bytes from its start to the end of
+// the file; no addition, so lengths near 2^64 cannot wrap.
+bool recordFits(const RecordHeader& h, uint64_t left) {
+    return h.headerBytes <= left && h.payloadBytes <= left - h.headerBytes;
+}
+
 nlohmann::ordered_json headerToJson(const RecordingHeader& h) {
     nlohmann::ordered_json j;
     j["format"] = "infocus-recording";
@@ -417,6 +426,7 @@ Result<std::unique_ptr<RecordingReader>> RecordingReader::open(const std::string
         return makeError(ErrorKind::Io, "cannot stat " + r->path_ + ": " + errnoText(e), e);
     }
     const auto fileSize = static_cast<uint64_t>(st.st_size);
+    r->fileSize_ = fileSize;
 
     // Walk the record headers; payloads are checked when read, so opening stays fast.
     uint64_t offset = 0;
@@ -443,13 +453,21 @@ Result<std::unique_ptr<RecordingReader>> RecordingReader::open(const std::string
                          "cannot be located, the frames before it are intact";
             break;
         }
-        const uint64_t end = offset + h.headerBytes + h.payloadBytes;
-        if (end > fileSize) {
-            r->damage_ = where + " is incomplete (" + std::to_string(fileSize - offset) + " of " +
-                         std::to_string(end - offset) +
-                         " bytes; the recording was interrupted); the frames before it are intact";
+        // Lengths are compared with what is left of the file before they are added: a crafted
+        // length near 2^64 would wrap the sum back into the file.
+        if (!recordFits(h, fileSize - offset)) {
+            if (h.payloadBytes > kMaxPayloadBytes)
+                r->damage_ = where + " claims " + std::to_string(h.payloadBytes) +
+                             " bytes of pixel data, more than a record holds (3 planes of at "
+                             "most 4 GiB); its header is damaged, the frames before it are intact";
+            else
+                r->damage_ = where + " is incomplete (" + std::to_string(fileSize - offset) +
+                             " of " + std::to_string(h.headerBytes + h.payloadBytes) +
+                             " bytes; the recording was interrupted); the frames before it are "
+                             "intact";
             break;
         }
+        const uint64_t end = offset + h.headerBytes + h.payloadBytes;
         RecordedFrameInfo info;
         info.sequence = h.sequence;
         info.timestampNs = h.timestampNs;
@@ -475,6 +493,15 @@ Result<Frame> RecordingReader::read(size_t i) const {
         const int e = errno;
         return makeError(ErrorKind::Io, "cannot read " + where + ": " + errnoText(e), e);
     }
+    // The file may have changed since it was indexed: its lengths are checked again before they
+    // size an allocation.
+    if (h.magic != replay::kRecordMagic || headerCrc(h) != h.headerCrc ||
+        h.headerBytes < sizeof h || h.payloadBytes != info.payloadBytes ||
+        info.offset > fileSize_ || !recordFits(h, fileSize_ - info.offset))
+        return makeError(ErrorKind::Corrupt,
+                         where +
+                             " has a record header that no longer matches the file (changed "
+                             "since it was opened, or damaged); it is skipped");
     // The buffer is left uninitialised: every byte is overwritten by the read.
     std::shared_ptr<uint8_t[]> buffer(new uint8_t[h.payloadBytes > 0 ? h.payloadBytes : 1]);
     if (readAt(fd_, buffer.get(), h.payloadBytes, info.offset + h.headerBytes) !=

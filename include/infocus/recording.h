@@ -105,7 +105,8 @@ public:
     /// nullopt when the file ended cleanly after the last record.
     const std::optional<std::string>& damage() const { return damage_; }
     /// Reads frame @p i with its metadata. Fails with Corrupt (naming the file, frame and
-    /// offset) when its payload fails the CRC, Io on a read error, Usage for i out of range.
+    /// offset) when its payload fails the CRC or its record header no longer fits the file, Io
+    /// on a read error, Usage for i out of range.
     Result<Frame> read(size_t i) const;
     /// The frame file's path.
     const std::string& path() const { return path_; }
@@ -114,6 +115,7 @@ private:
     RecordingReader() = default;
     std::string path_;
     int fd_ = -1;
+    uint64_t fileSize_ = 0;  ///< bytes of the frame file when it was indexed
     RecordingHeader header_;
     std::vector<RecordedFrameInfo> index_;
     std::optional<std::string> damage_;

@@ -86,5 +86,25 @@ check "non-empty output directory exits 2 ($out)" test $? -eq 2
 out=$("$bin" record sim: -o "$work/x" --frames 3 --seconds 1 2>&1)
 check "--frames with --seconds exits 2" test $? -eq 2
 
+# 5. A crafted record length near 2^64 (header CRC recomputed): the frames before it are kept,
+# the record is named with its byte offset, exit 1; it neither loops nor aborts.
+cp -r "$work/a" "$work/big"
+python3 - "$work/big/frames.bin" $rec <<'PY'
+import struct, sys, zlib
+path, offset = sys.argv[1], int(sys.argv[2])
+with open(path, "r+b") as f:
+    f.seek(offset)
+    h = bytearray(f.read(128))
+    struct.pack_into("<IQ", h, 4, 512, 2**64 - 256)
+    struct.pack_into("<I", h, 124, zlib.crc32(bytes(h[:124])))
+    f.seek(offset)
+    f.write(h)
+PY
+out=$(timeout 20 "$bin" record "$work/big" -o "$work/big2" 2>&1)
+st=$?
+check "crafted record length exits 1 ($st: $out)" test $st -eq 1
+check "crafted record length is named ($out)" grep -q "frames.bin: frame 1 at byte $rec" <<<"$out"
+check "the frame before it is kept" test "$(size "$work/big2/frames.bin")" -eq $rec
+
 echo "record: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -1,0 +1,175 @@
+// SPDX-License-Identifier: MIT
+// Recordings and playback under hostile input: crafted record lengths, extreme timestamps,
+// frames without pixels, concurrent writers and a disk that fills up. Each ends in an error that
+// names what is at fault, never in a crash, a hang or a recording that lies about its source.
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <barrier>
+#include <catch2/catch.hpp>
+#include <climits>
+#include <csignal>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "infocus/recording.h"
+#include "infocus/source.h"
+#include "replay/recording_format.h"
+#include "replay/replay_sources.h"
+#include "tests/common/scratch_dir.h"
+
+using namespace infocus;
+
+namespace {
+
+// A path for a new recording directory named @p name, in one scratch directory for the run.
+std::string tempDir(const std::string& name) {
+    static const test::ScratchDir scratch("infocus-test-recbad-");
+    static int made = 0;
+    return scratch.file(name + std::to_string(++made));
+}
+
+RecordingHeader greyHeader(const std::string& sourceString) {
+    SourceInfo info;
+    info.sourceString = sourceString;
+    info.format = PixelFormat::GREY;
+    info.size = {16, 8};
+    info.fps = 25;
+    return makeRecordingHeader(info, nullptr);
+}
+
+Frame greyFrame(uint64_t seq, int64_t timestampNs) {
+    auto f = allocateFrame(PixelFormat::GREY, {16, 8}, 0);
+    REQUIRE(f.ok());
+    for (size_t i = 0; i < f->planes[0].size; ++i)
+        mutablePlane(*f, 0)[i] = static_cast<uint8_t>(i * 7 + seq);
+    f->sequence = seq;
+    f->timestampNs = timestampNs;
+    return *f;
+}
+
+// A GREY 16x8 recording with one frame per timestamp in @p timestampsNs.
+std::string writeGrey(const std::vector<int64_t>& timestampsNs) {
+    const std::string dir = tempDir("grey");
+    auto w = RecordingWriter::create(dir, greyHeader("sim:"));
+    REQUIRE(w.ok());
+    for (size_t i = 0; i < timestampsNs.size(); ++i)
+        REQUIRE((*w)->append(greyFrame(i, timestampsNs[i])).ok());
+    return dir;
+}
+
+constexpr uint64_t kGreyRecord = sizeof(replay::RecordHeader) + 16 * 8;
+
+// Rewrites the header of record @p index with @p edit applied and its CRC recomputed, as a
+// crafted file would have it.
+template <typename Edit>
+void craftRecord(const std::string& dir, uint64_t index, Edit edit) {
+    std::fstream f(dir + "/frames.bin", std::ios::in | std::ios::out | std::ios::binary);
+    REQUIRE(f);
+    replay::RecordHeader h;
+    f.seekg(static_cast<std::streamoff>(index * kGreyRecord));
+    f.read(reinterpret_cast<char*>(&h), sizeof h);
+    edit(h);
+    h.headerCrc = replay::crc32(&h, offsetof(replay::RecordHeader, headerCrc));
+    f.seekp(static_cast<std::streamoff>(index * kGreyRecord));
+    f.write(reinterpret_cast<const char*>(&h), sizeof h);
+}
+
+Result<std::unique_ptr<FrameSource>> openPath(const std::string& text) {
+    auto spec = parseSourceSpec(text);
+    if (!spec) return spec.error();
+    return replay::openPathSource(*spec);
+}
+
+// Runs @p body in a child process bounded by @p seconds of wall time: a reader that loops or
+// allocates without end fails the test instead of taking the machine down. Returns the child's
+// exit status as waitpid() gives it.
+template <typename Body>
+int inChild(unsigned seconds, Body body) {
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        ::alarm(seconds);
+        rlimit mem{1ull << 30, 1ull << 30};
+        ::setrlimit(RLIMIT_AS, &mem);
+        int code = 3;
+        try {
+            code = body() ? 0 : 1;
+        } catch (...) {
+            code = 2;
+        }
+        ::_exit(code);
+    }
+    int status = 0;
+    REQUIRE(::waitpid(pid, &status, 0) == pid);
+    return status;
+}
+
+}  // namespace
+
+TEST_CASE("record lengths near 2^64 are refused before any addition or allocation") {
+    // Each length makes offset + header + payload wrap: back onto the record itself (indexing
+    // forever), onto the next record (a bogus index entry whose read allocates ~2^64 bytes), or
+    // anywhere in between.
+    const std::pair<uint32_t, uint64_t> lengths[] = {
+        {128, UINT64_MAX - 127},  // end == offset
+        {512, UINT64_MAX - 255},  // end == the next record
+        {128, UINT64_MAX},
+        {4096, UINT64_MAX - 5},
+    };
+    for (const auto& [headerBytes, payloadBytes] : lengths) {
+        INFO("headerBytes " << headerBytes << ", payloadBytes " << payloadBytes);
+        const std::string dir = writeGrey({0, 40'000'000, 80'000'000});
+        craftRecord(dir, 1, [&](replay::RecordHeader& h) {
+            h.headerBytes = headerBytes;
+            h.payloadBytes = payloadBytes;
+        });
+        const int status = inChild(20, [&] {
+            auto r = RecordingReader::open(dir);
+            if (!r.ok() || (*r)->frameCount() != 1 || !(*r)->damage()) return false;
+            const std::string& d = *(*r)->damage();
+            if (d.find(dir + "/frames.bin: frame 1 at byte " + std::to_string(kGreyRecord)) ==
+                std::string::npos)
+                return false;
+            auto src = openPath(dir);
+            if (!src.ok() || !(*src)->start().ok()) return false;
+            if (!(*src)->next().ok()) return false;
+            auto torn = (*src)->next();
+            return !torn.ok() && torn.error().message.find("frame 1") != std::string::npos;
+        });
+        CHECK(WIFEXITED(status));
+        CHECK(WEXITSTATUS(status) == 0);
+    }
+    SECTION("a header length past the file is refused too") {
+        const std::string dir = writeGrey({0, 40'000'000});
+        craftRecord(dir, 1, [](replay::RecordHeader& h) { h.headerBytes = UINT32_MAX; });
+        auto r = RecordingReader::open(dir);
+        REQUIRE(r.ok());
+        CHECK((*r)->frameCount() == 1);
+        REQUIRE((*r)->damage());
+        CHECK_THAT(*(*r)->damage(),
+                   Catch::Contains("frame 1 at byte " + std::to_string(kGreyRecord)));
+    }
+}
+
+TEST_CASE("a record whose length changes after indexing is refused by read, not allocated") {
+    const std::string dir = writeGrey({0, 40'000'000});
+    auto r = RecordingReader::open(dir);
+    REQUIRE(r.ok());
+    REQUIRE((*r)->frameCount() == 2);
+    craftRecord(dir, 1, [](replay::RecordHeader& h) { h.payloadBytes = UINT64_MAX - 127; });
+    const int status = inChild(20, [&] {
+        auto f = (*r)->read(1);
+        return !f.ok() && f.error().kind == ErrorKind::Corrupt &&
+               f.error().message.find("frame 1 at byte " + std::to_string(kGreyRecord)) !=
+                   std::string::npos;
+    });
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 0);
+}
