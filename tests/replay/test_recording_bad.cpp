@@ -173,3 +173,65 @@ TEST_CASE("a record whose length changes after indexing is refused by read, not 
     CHECK(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 0);
 }
+
+TEST_CASE("extreme timestamps never overflow: saturated or refused naming the option") {
+    SECTION("start= seconds across the whole int64 range") {
+        const std::string dir =
+            writeGrey({INT64_MIN, INT64_MIN + 1'000'000'000'000'000'000, INT64_MAX});
+        // Frame 2 lies 2^64 - 1 ns after frame 0, past int64: it is the first at ≥ 5e9 s.
+        auto s = openPath(dir + ",start=5e9s");
+        REQUIRE(s.ok());
+        REQUIRE((*s)->start().ok());
+        auto f = (*s)->next();
+        REQUIRE(f.ok());
+        CHECK(f->sequence == 2);
+        auto beyond = openPath(dir + ",start=1e300s");
+        REQUIRE(!beyond.ok());
+        CHECK(beyond.error().kind == ErrorKind::Usage);
+    }
+    SECTION("loop=1 that would carry timestamps past int64 ends with a message") {
+        for (const std::vector<int64_t>& ts :
+             {std::vector<int64_t>{0, INT64_MAX}, std::vector<int64_t>{INT64_MIN, INT64_MAX},
+              std::vector<int64_t>{INT64_MAX - 10}}) {
+            INFO("first timestamp " << ts.front());
+            const std::string dir = writeGrey(ts);
+            auto s = openPath(dir + ",loop=1");
+            REQUIRE(s.ok());
+            REQUIRE((*s)->start().ok());
+            std::optional<int64_t> last;
+            std::optional<Error> failure;
+            for (int i = 0; i < 8 && !failure; ++i) {
+                auto f = (*s)->next();
+                if (!f) {
+                    failure = f.error();
+                    break;
+                }
+                if (last) CHECK(f->timestampNs > *last);
+                last = f->timestampNs;
+            }
+            REQUIRE(failure);
+            CHECK(failure->kind != ErrorKind::EndOfStream);
+            CHECK_THAT(failure->message, Catch::Contains("loop=1") && Catch::Contains(dir));
+        }
+    }
+    SECTION("pace=original refuses a frame further from the first than int64 nanoseconds") {
+        const std::string dir = writeGrey({INT64_MIN, INT64_MAX});
+        auto s = openPath(dir + ",pace=original");
+        REQUIRE(s.ok());
+        REQUIRE((*s)->start().ok());
+        REQUIRE((*s)->next().ok());
+        auto f = (*s)->next();
+        REQUIRE(!f.ok());
+        CHECK(f.error().kind != ErrorKind::EndOfStream);
+        CHECK_THAT(f.error().message,
+                   Catch::Contains("pace=original") && Catch::Contains("frame 1"));
+    }
+    SECTION("pace=original with timestamps that run backwards does not wait") {
+        const std::string dir = writeGrey({INT64_MAX, INT64_MIN, 0});
+        auto s = openPath(dir + ",pace=original");
+        REQUIRE(s.ok());
+        REQUIRE((*s)->start().ok());
+        for (int i = 0; i < 3; ++i)
+            REQUIRE((*s)->next().ok());
+    }
+}
