@@ -235,3 +235,19 @@ TEST_CASE("extreme timestamps never overflow: saturated or refused naming the op
             REQUIRE((*s)->next().ok());
     }
 }
+
+TEST_CASE("copyFrame refuses a frame whose plane has no pixels") {
+    Frame f = greyFrame(7, 0);
+    f.planes[0].data = nullptr;
+    auto c = copyFrame(f);
+    REQUIRE(!c.ok());
+    CHECK_THAT(c.error().message, Catch::Contains("frame 7") && Catch::Contains("plane 0"));
+    Frame m = makeCompressedFrame(PixelFormat::MJPEG, {16, 8}, nullptr, 0);
+    m.planes[0] = Plane{nullptr, 0, 100};
+    auto cm = copyFrame(m);
+    REQUIRE(!cm.ok());
+    CHECK_THAT(cm.error().message, Catch::Contains("plane 0"));
+    // A whole frame still copies.
+    auto ok = copyFrame(greyFrame(1, 0));
+    REQUIRE(ok.ok());
+}
