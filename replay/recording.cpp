@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Recording writer and reader (format in recording_format.h).
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/uio.h>
 #include <unistd.h>
@@ -48,6 +49,40 @@ bool directoryIsEmpty(const std::string& path) {
     }
     ::closedir(d);
     return empty;
+}
+
+// Whether a writer holds the lock on the frame file in @p dir: a recording is being written.
+bool beingWritten(const std::string& dir) {
+    const std::string path = dir + "/" + replay::kFramesFileName;
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return false;
+    const bool locked = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+    ::close(fd);
+    return locked;
+}
+
+// Creates @p path exclusively, locked (flock) before it appears, so that a second writer that
+// sees the file also sees it locked. Returns the descriptor, or -errno (-EEXIST when another
+// writer made it first).
+int claimFramesFile(const std::string& dir, const std::string& path) {
+    // An unnamed file, locked, then linked into place: linkat() fails if the name exists.
+    const int tmp = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+    if (tmp >= 0) {
+        ::flock(tmp, LOCK_EX);
+        const std::string self = "/proc/self/fd/" + std::to_string(tmp);
+        if (::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, path.c_str(), AT_SYMLINK_FOLLOW) == 0 &&
+            ::fcntl(tmp, F_SETFL, O_APPEND) == 0)
+            return tmp;
+        const int e = errno;
+        ::close(tmp);
+        if (e == EEXIST) return -e;
+    }
+    // No O_TMPFILE here (or no /proc): O_EXCL still decides the winner, with a moment before
+    // the lock in which the file is visible unlocked.
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0666);
+    if (fd < 0) return -errno;
+    ::flock(fd, LOCK_EX);
+    return fd;
 }
 
 // Writes all of @p size bytes, retrying after signals and short writes.
@@ -238,46 +273,59 @@ RecordingHeader makeRecordingHeader(const SourceInfo& info, const FocusControl* 
 
 Result<std::unique_ptr<RecordingWriter>> RecordingWriter::create(const std::string& dir,
                                                                  const RecordingHeader& header) {
-    if (isDirectory(dir)) {
-        if (!directoryIsEmpty(dir))
-            return makeError(ErrorKind::Usage, "output directory " + dir +
-                                                   " is not empty; choose a new directory or "
-                                                   "remove the old recording first");
-    } else if (::mkdir(dir.c_str(), 0777) != 0) {
+    const auto another = [&](int e) {
+        return makeError(ErrorKind::Io,
+                         "output directory " + dir +
+                             ": another recording is being written there; wait for it to end "
+                             "or choose another directory",
+                         e);
+    };
+    // mkdir() first, not a stat() before it: two recorders that both saw no directory would
+    // otherwise both go on. The frame file below is the claim that decides between them.
+    if (::mkdir(dir.c_str(), 0777) != 0) {
         const int e = errno;
+        if (e != EEXIST)
+            return makeError(ErrorKind::Io,
+                             "cannot create recording directory " + dir + ": " + errnoText(e) +
+                                 "; check that the parent directory exists and is writable",
+                             e);
         // A file of that name (often a mistyped -o): say so, rather than blame the parent.
-        if (e == EEXIST)
+        if (!isDirectory(dir))
             return makeError(ErrorKind::Usage, "output " + dir +
                                                    " exists and is not a directory; give a new "
                                                    "or empty directory for the recording");
-        return makeError(ErrorKind::Io,
-                         "cannot create recording directory " + dir + ": " + errnoText(e) +
-                             "; check that the parent directory exists and is writable",
-                         e);
+        if (!directoryIsEmpty(dir)) {
+            if (beingWritten(dir)) return another(EBUSY);
+            return makeError(ErrorKind::Usage, "output directory " + dir +
+                                                   " is not empty; choose a new directory or "
+                                                   "remove the old recording first");
+        }
     }
+    // The frame file is claimed before the header is written, so only the winner writes one.
+    const std::string framesPath = dir + "/" + replay::kFramesFileName;
+    const int fd = claimFramesFile(dir, framesPath);
+    if (fd == -EEXIST) return another(EEXIST);
+    if (fd < 0)
+        return makeError(ErrorKind::Io, "cannot create " + framesPath + ": " + errnoText(-fd), -fd);
     // The header goes through a temporary file and rename() so it is never half written.
     const std::string headerPath = dir + "/" + replay::kHeaderFileName;
     const std::string tmpPath = headerPath + ".tmp";
     {
         const std::string text = headerToJson(header).dump(2) + "\n";
         const int fd = ::open(tmpPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-        if (fd < 0 || !writeAll(fd, text.data(), text.size()) || ::fsync(fd) != 0) {
+        const int hfd = ::open(tmpPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+        if (hfd < 0 || !writeAll(hfd, text.data(), text.size()) || ::fsync(hfd) != 0) {
             const int e = errno;
-            if (fd >= 0) ::close(fd);
+            if (hfd >= 0) ::close(hfd);
+            ::close(fd);
             return makeError(ErrorKind::Io, "cannot write " + tmpPath + ": " + errnoText(e), e);
         }
-        ::close(fd);
+        ::close(hfd);
         if (::rename(tmpPath.c_str(), headerPath.c_str()) != 0) {
             const int e = errno;
+            ::close(fd);
             return makeError(ErrorKind::Io, "cannot rename " + tmpPath + ": " + errnoText(e), e);
         }
-    }
-    const std::string framesPath = dir + "/" + replay::kFramesFileName;
-    const int fd =
-        ::open(framesPath.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0666);
-    if (fd < 0) {
-        const int e = errno;
-        return makeError(ErrorKind::Io, "cannot create " + framesPath + ": " + errnoText(e), e);
     }
     return std::unique_ptr<RecordingWriter>(new RecordingWriter(framesPath, fd));
 }

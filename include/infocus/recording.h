@@ -42,7 +42,8 @@ RecordingHeader makeRecordingHeader(const SourceInfo& info, const FocusControl* 
 class RecordingWriter {
 public:
     /// Creates @p dir (which must not exist or be empty) and writes its header. Fails with
-    /// ErrorKind::Usage when @p dir holds files, ErrorKind::Io when it cannot be created.
+    /// ErrorKind::Usage when @p dir holds files, ErrorKind::Io when it cannot be created or when
+    /// another writer claimed it first ("another recording is being written there").
     static Result<std::unique_ptr<RecordingWriter>> create(const std::string& dir,
                                                            const RecordingHeader& header);
     ~RecordingWriter();

@@ -106,5 +106,28 @@ check "crafted record length exits 1 ($st: $out)" test $st -eq 1
 check "crafted record length is named ($out)" grep -q "frames.bin: frame 1 at byte $rec" <<<"$out"
 check "the frame before it is kept" test "$(size "$work/big2/frames.bin")" -eq $rec
 
+# 6. Two recorders on one new directory: one wins and its header names its own source, the
+# other says another recording is being written there.
+race_ok=0
+for t in $(seq 1 20); do
+	d="$work/race$t"
+	"$bin" record sim:size=32x24,fps=50,seed=1 -o "$d" --frames 5 >"$d.1" 2>&1 &
+	p1=$!
+	"$bin" record sim:size=32x24,fps=50,seed=2 -o "$d" --frames 5 >"$d.2" 2>&1 &
+	p2=$!
+	wait $p1
+	s1=$?
+	wait $p2
+	s2=$?
+	if [ $s1 -eq 0 ] && [ $s2 -eq 1 ]; then win=1 lose=2; elif [ $s1 -eq 1 ] && [ $s2 -eq 0 ]; then win=2 lose=1; else
+		echo "race $t: exits $s1 $s2"
+		continue
+	fi
+	grep -q "another recording is being written there" "$d.$lose" &&
+		grep -q "\"source\": \"sim:size=32x24,fps=50,seed=$win\"" "$d/header.json" &&
+		race_ok=$((race_ok + 1))
+done
+check "20 of 20 recorder races: one wins, the other says why ($race_ok)" test $race_ok -eq 20
+
 echo "record: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

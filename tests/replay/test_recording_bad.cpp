@@ -251,3 +251,39 @@ TEST_CASE("copyFrame refuses a frame whose plane has no pixels") {
     auto ok = copyFrame(greyFrame(1, 0));
     REQUIRE(ok.ok());
 }
+
+TEST_CASE("two writers on one new directory: one wins, the other says why") {
+    for (int trial = 0; trial < 200; ++trial) {
+        const std::string dir = tempDir("race");
+        std::barrier sync(2);
+        std::optional<std::string> failure[2];
+        bool won[2] = {false, false};
+        auto run = [&](int who) {
+            auto w = RecordingWriter::create(dir, greyHeader("sim:writer=" + std::to_string(who)));
+            // Both have tried before either closes, as two recorders running side by side.
+            sync.arrive_and_wait();
+            if (!w) {
+                failure[who] = w.error().message;
+                return;
+            }
+            won[who] = (*w)->append(greyFrame(static_cast<uint64_t>(who), 0)).ok();
+        };
+        std::thread a(run, 0), b(run, 1);
+        a.join();
+        b.join();
+        INFO("trial " << trial);
+        REQUIRE(won[0] != won[1]);
+        const int winner = won[0] ? 0 : 1;
+        REQUIRE(failure[1 - winner]);
+        CHECK_THAT(
+            *failure[1 - winner],
+            Catch::Contains("another recording is being written there") && Catch::Contains(dir));
+        auto r = RecordingReader::open(dir);
+        REQUIRE(r.ok());
+        REQUIRE((*r)->header().sourceString == "sim:writer=" + std::to_string(winner));
+        REQUIRE((*r)->frameCount() == 1);
+        auto f = (*r)->read(0);
+        REQUIRE(f.ok());
+        REQUIRE(f->sequence == static_cast<uint64_t>(winner));
+    }
+}
