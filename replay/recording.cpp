@@ -391,12 +391,18 @@ Status RecordingWriter::append(const Frame& frame) {
     } while (n < 0 && errno == EINTR);
     // Said alike whether the first write or a later part of it fails (a disk that fills up
     // part-way through a frame): what is kept, and what to do.
+    // The torn part of the record is cut off again, so that the file ends with its last whole
+    // frame and replays cleanly rather than reporting damage every time.
     const auto failed = [&](int e) {
+        std::string kept = "; the " + std::to_string(frames_) + " frames before it are kept";
+        if (::ftruncate(fd_, static_cast<off_t>(bytes_)) == 0)
+            kept += " and replay";
+        else
+            kept += " (its torn part could not be removed: " + errnoText(errno) +
+                    "; replay reports it)";
         return makeError(ErrorKind::Io,
                          "cannot write frame " + std::to_string(frames_) + " to " + path_ + ": " +
-                             errnoText(e) + "; the " + std::to_string(frames_) +
-                             " frames before it are kept and replay; free disk space or record "
-                             "to another disk",
+                             errnoText(e) + kept + "; free disk space or record to another disk",
                          e);
     };
     if (n < 0) return failed(errno);

@@ -106,7 +106,23 @@ check "crafted record length exits 1 ($st: $out)" test $st -eq 1
 check "crafted record length is named ($out)" grep -q "frames.bin: frame 1 at byte $rec" <<<"$out"
 check "the frame before it is kept" test "$(size "$work/big2/frames.bin")" -eq $rec
 
-# 6. Two recorders on one new directory: one wins and its header names its own source, the
+# 6. A disk that fills up mid-frame (a 200 KiB file size limit with SIGXFSZ ignored gives EFBIG,
+# as ENOSPC would): the torn frame is cut off, so the two whole frames replay with exit 0.
+out=$( (
+	ulimit -f 200
+	trap '' XFSZ
+	exec "$bin" record sim:size=320x240,pace=fast -o "$work/full" --frames 10
+) 2>&1)
+st=$?
+check "full disk exits 1 ($st: $out)" test $st -eq 1
+check "full disk says what is kept ($out)" grep -q "the 2 frames before it are kept and replay" <<<"$out"
+check "full disk leaves whole frames only" test "$(size "$work/full/frames.bin")" -eq $((2 * rec))
+out=$("$bin" record "$work/full" -o "$work/full2" 2>&1)
+st=$?
+check "the cut recording replays with exit 0 ($st: $out)" test $st -eq 0
+check "the cut recording replays its 2 frames ($out)" grep -q "recorded 2 frames" <<<"$out"
+
+# 7. Two recorders on one new directory: one wins and its header names its own source, the
 # other says another recording is being written there.
 race_ok=0
 for t in $(seq 1 20); do

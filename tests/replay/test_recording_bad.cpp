@@ -287,3 +287,36 @@ TEST_CASE("two writers on one new directory: one wins, the other says why") {
         REQUIRE(f->sequence == static_cast<uint64_t>(winner));
     }
 }
+
+TEST_CASE("a write cut by a full disk is truncated back to the last whole frame") {
+    // The file size limit stands in for a full disk (EFBIG, as ENOSPC), part-way through the
+    // fourth record; the child process keeps the limit away from the rest of the test.
+    const std::string dir = tempDir("full");
+    const int status = inChild(20, [&] {
+        auto w = RecordingWriter::create(dir, greyHeader("sim:"));
+        if (!w) return false;
+        std::signal(SIGXFSZ, SIG_IGN);
+        rlimit small{3 * kGreyRecord + 50, RLIM_INFINITY};
+        if (::setrlimit(RLIMIT_FSIZE, &small) != 0) return false;
+        int appended = 0;
+        for (int i = 0; i < 6; ++i)
+            if ((*w)->append(greyFrame(static_cast<uint64_t>(i), i * 40'000'000LL)).ok())
+                ++appended;
+        return appended == 3 && (*w)->frames() == 3 && (*w)->close().ok();
+    });
+    REQUIRE(WIFEXITED(status));
+    REQUIRE(WEXITSTATUS(status) == 0);
+    struct stat st;
+    REQUIRE(::stat((dir + "/frames.bin").c_str(), &st) == 0);
+    CHECK(static_cast<uint64_t>(st.st_size) == 3 * kGreyRecord);
+    auto r = RecordingReader::open(dir);
+    REQUIRE(r.ok());
+    CHECK((*r)->frameCount() == 3);
+    CHECK(!(*r)->damage());
+    auto src = openPath(dir);
+    REQUIRE(src.ok());
+    REQUIRE((*src)->start().ok());
+    for (int i = 0; i < 3; ++i)
+        REQUIRE((*src)->next().ok());
+    CHECK((*src)->next().error().kind == ErrorKind::EndOfStream);
+}
