@@ -67,6 +67,20 @@ check "SIGINT exits 0 ($st)" test $st -eq 0
 check "SIGINT summary, before the 30 s bound" grep -q "stopped by signal" "$work/i.out"
 check "SIGINT leaves whole frames only" test $(($(size "$work/i/frames.bin") % rec)) -eq 0
 
+# 3b. SIGTERM while the source opens (a 4000x3000 sim: scene takes about 0.7 s to open): a clean
+# stop with exit 0, nothing recorded or a recording of whole frames; never the default action.
+for delay in 0.1 0.3 0.5; do
+	"$bin" record sim:size=4000x3000,pace=fast -o "$work/o$delay" --frames 1 >"$work/o.out" 2>&1 &
+	pid=$!
+	sleep $delay
+	kill -TERM $pid
+	wait $pid
+	st=$?
+	check "SIGTERM after ${delay} s of opening exits 0 ($st: $(cat "$work/o.out"))" test $st -eq 0
+	check "SIGTERM after ${delay} s leaves whole frames only" \
+		test ! -e "$work/o$delay/frames.bin" -o $(($(size "$work/o$delay/frames.bin" 2>/dev/null || echo 0) % (128 + 4000 * 3000))) -eq 0
+done
+
 # 4. Bad input: clear errors, non-zero exits, no crash.
 out=$("$bin" record "$work/missing" -o "$work/m" 2>&1)
 check "missing recording exits 1 ($out)" test $? -eq 1
