@@ -79,6 +79,20 @@ Result<PlaybackOptions> parsePlaybackOptions(const SourceSpec& spec,
 
 namespace {
 
+// a + b, or nullopt past the range of int64: timestamps come from files and may be anything.
+std::optional<int64_t> checkedAdd(int64_t a, int64_t b) {
+    int64_t sum;
+    if (__builtin_add_overflow(a, b, &sum)) return std::nullopt;
+    return sum;
+}
+
+// a - b, or nullopt past the range of int64.
+std::optional<int64_t> checkedSub(int64_t a, int64_t b) {
+    int64_t difference;
+    if (__builtin_sub_overflow(a, b, &difference)) return std::nullopt;
+    return difference;
+}
+
 class PlaybackSource final : public FrameSource {
 public:
     PlaybackSource(std::unique_ptr<FrameReader> reader, PlaybackOptions options, size_t first)
@@ -118,8 +132,8 @@ public:
                 ++stats_.errors;
                 return frame.error();
             }
-            adjust(*frame, i);
-            pace(*frame, i);
+            if (auto s = adjust(*frame, i); !s) return s.error();
+            if (auto s = pace(*frame, i); !s) return s.error();
             ++stats_.delivered;
             ++delivered_;
             return std::move(*frame);
@@ -146,11 +160,17 @@ private:
             return makeError(ErrorKind::EndOfStream, "end of " + info_.sourceString);
         // Shift the next pass by the span of this one plus one frame interval, so timestamps
         // and sequence numbers keep increasing across the loop.
-        const int64_t span = reader_->timestampNs(n - 1) - reader_->timestampNs(first_);
-        const int64_t interval =
-            n - first_ > 1 ? span / static_cast<int64_t>(n - 1 - first_)
-                           : static_cast<int64_t>(1e9 / (info_.fps > 0 ? info_.fps : 30.0));
-        tsOffset_ += span + interval;
+        // Timestamps near the ends of int64 would wrap: the loop ends there with a message.
+        const auto span = checkedSub(reader_->timestampNs(n - 1), reader_->timestampNs(first_));
+        int64_t interval = 0;
+        if (span && n - first_ > 1)
+            interval = *span / static_cast<int64_t>(n - 1 - first_);
+        else if (span)
+            interval = saturatedNs(1e9 / (info_.fps > 0 ? info_.fps : 30.0));
+        const auto step = span ? checkedAdd(*span, interval) : std::nullopt;
+        const auto offset = step ? checkedAdd(tsOffset_, *step) : std::nullopt;
+        if (!offset) return loopOverflow(n - 1);
+        tsOffset_ = *offset;
         seqOffset_ += lastSeqInPass_ + 1 - firstSeqInPass_.value_or(0);
         firstSeqInPass_.reset();
         prevSeq_.reset();
@@ -158,31 +178,58 @@ private:
         return {};
     }
 
-    void adjust(Frame& f, size_t /*i*/) {
+    // The error that ends a loop whose timestamps would pass int64 after frame @p i.
+    Error loopOverflow(size_t i) const {
+        return makeError(ErrorKind::Unsupported,
+                         "source '" + info_.sourceString + "': loop=1 cannot go on after frame " +
+                             std::to_string(i) +
+                             ": the next pass's timestamps would pass the largest time a "
+                             "timestamp holds (2^63 ns, about 292 years); replay it without "
+                             "loop=1, or re-record it with ordinary timestamps");
+    }
+
+    Status adjust(Frame& f, size_t i) {
+        const auto ts = checkedAdd(f.timestampNs, tsOffset_);
+        if (!ts) return loopOverflow(i);
         if (!firstSeqInPass_) firstSeqInPass_ = f.sequence;
         lastSeqInPass_ = f.sequence;
         if (prevSeq_ && f.sequence > *prevSeq_ + 1) stats_.dropped += f.sequence - *prevSeq_ - 1;
         prevSeq_ = f.sequence;
         f.sequence += seqOffset_;
-        f.timestampNs += tsOffset_;
+        f.timestampNs = *ts;
+        return {};
     }
 
-    void pace(const Frame& f, size_t /*i*/) {
+    Status pace(const Frame& f, size_t i) {
         using namespace std::chrono;
-        steady_clock::time_point due;
+        int64_t dueNs = 0;  // since wallStart_
         switch (options_.pace) {
             case PlaybackOptions::Pace::Fast:
-                return;
-            case PlaybackOptions::Pace::Original:
+                return {};
+            case PlaybackOptions::Pace::Original: {
                 if (!firstTs_) firstTs_ = f.timestampNs;
-                due = wallStart_ + nanoseconds(f.timestampNs - *firstTs_);
+                const auto d = checkedSub(f.timestampNs, *firstTs_);
+                // Far before the first frame is simply due now; far after it, never.
+                if (!d && f.timestampNs < *firstTs_) return {};
+                if (!d)
+                    return makeError(
+                        ErrorKind::Unsupported,
+                        "source '" + info_.sourceString +
+                            "': pace=original cannot wait for frame " + std::to_string(i) +
+                            ": its timestamp is further from the first frame's than 2^63 ns "
+                            "(about 292 years); replay it with pace=fast or fps=N");
+                dueNs = *d;
                 break;
+            }
             case PlaybackOptions::Pace::Fps:
-                due = wallStart_ + nanoseconds(static_cast<int64_t>(
-                                       static_cast<double>(delivered_) * 1e9 / options_.fps));
+                dueNs = saturatedNs(static_cast<double>(delivered_) * 1e9 / options_.fps);
                 break;
         }
-        std::this_thread::sleep_until(due);
+        // A relative sleep: wallStart_ plus a due time near 2^63 ns would wrap the clock.
+        if (dueNs <= 0) return {};
+        const nanoseconds elapsed = duration_cast<nanoseconds>(steady_clock::now() - wallStart_);
+        if (elapsed.count() < dueNs) std::this_thread::sleep_for(nanoseconds(dueNs) - elapsed);
+        return {};
     }
 
     std::unique_ptr<FrameReader> reader_;
@@ -225,14 +272,21 @@ Result<std::unique_ptr<FrameSource>> makePlayback(std::unique_ptr<FrameReader> r
         first = *options.startFrame;
     } else if (options.startS) {
         const int64_t t0 = reader->timestampNs(0);
-        const int64_t target = saturatedNs(*options.startS * 1e9);
-        while (first < n && reader->timestampNs(first) - t0 < target)
-            ++first;
+        // Two int64 timestamps lie up to 2^64 - 1 ns apart, exact in __int128; a start further
+        // than that is beyond every frame.
+        const double targetNs = std::round(*options.startS * 1e9);
+        if (targetNs >= 18446744073709551616.0) {
+            first = n;
+        } else {
+            const auto target = static_cast<__int128>(targetNs);
+            while (first < n && __int128{reader->timestampNs(first)} - t0 < target)
+                ++first;
+        }
         if (first >= n) {
             char text[96];
-            std::snprintf(text, sizeof text, "start=%gs is beyond its last frame (%.3f s)",
-                          *options.startS,
-                          static_cast<double>(reader->timestampNs(n - 1) - t0) / 1e9);
+            std::snprintf(
+                text, sizeof text, "start=%gs is beyond its last frame (%.3f s)", *options.startS,
+                (static_cast<double>(reader->timestampNs(n - 1)) - static_cast<double>(t0)) / 1e9);
             return makeError(ErrorKind::Usage, "source '" + info.sourceString + "': " + text);
         }
     }

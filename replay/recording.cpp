@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Recording writer and reader (format in recording_format.h).
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/uio.h>
 #include <unistd.h>
@@ -50,6 +51,40 @@ bool directoryIsEmpty(const std::string& path) {
     return empty;
 }
 
+// Whether a writer holds the lock on the frame file in @p dir: a recording is being written.
+bool beingWritten(const std::string& dir) {
+    const std::string path = dir + "/" + replay::kFramesFileName;
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return false;
+    const bool locked = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+    ::close(fd);
+    return locked;
+}
+
+// Creates @p path exclusively, locked (flock) before it appears, so that a second writer that
+// sees the file also sees it locked. Returns the descriptor, or -errno (-EEXIST when another
+// writer made it first).
+int claimFramesFile(const std::string& dir, const std::string& path) {
+    // An unnamed file, locked, then linked into place: linkat() fails if the name exists.
+    const int tmp = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+    if (tmp >= 0) {
+        ::flock(tmp, LOCK_EX);
+        const std::string self = "/proc/self/fd/" + std::to_string(tmp);
+        if (::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, path.c_str(), AT_SYMLINK_FOLLOW) == 0 &&
+            ::fcntl(tmp, F_SETFL, O_APPEND) == 0)
+            return tmp;
+        const int e = errno;
+        ::close(tmp);
+        if (e == EEXIST) return -e;
+    }
+    // No O_TMPFILE here (or no /proc): O_EXCL still decides the winner, with a moment before
+    // the lock in which the file is visible unlocked.
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0666);
+    if (fd < 0) return -errno;
+    ::flock(fd, LOCK_EX);
+    return fd;
+}
+
 // Writes all of @p size bytes, retrying after signals and short writes.
 bool writeAll(int fd, const void* data, size_t size) {
     const auto* p = static_cast<const uint8_t*>(data);
@@ -83,6 +118,15 @@ ssize_t readAt(int fd, void* data, size_t size, uint64_t offset) {
 
 uint32_t headerCrc(const RecordHeader& h) {
     return replay::crc32(&h, offsetof(RecordHeader, headerCrc));
+}
+
+// The most pixel data one record can hold: three planes of up to 4 GiB each.
+constexpr uint64_t kMaxPayloadBytes = 3ull * UINT32_MAX;
+
+// Whether the record with header @p h fits in the @p left bytes from its start to the end of
+// the file; no addition, so lengths near 2^64 cannot wrap.
+bool recordFits(const RecordHeader& h, uint64_t left) {
+    return h.headerBytes <= left && h.payloadBytes <= left - h.headerBytes;
 }
 
 nlohmann::ordered_json headerToJson(const RecordingHeader& h) {
@@ -229,46 +273,59 @@ RecordingHeader makeRecordingHeader(const SourceInfo& info, const FocusControl* 
 
 Result<std::unique_ptr<RecordingWriter>> RecordingWriter::create(const std::string& dir,
                                                                  const RecordingHeader& header) {
-    if (isDirectory(dir)) {
-        if (!directoryIsEmpty(dir))
-            return makeError(ErrorKind::Usage, "output directory " + dir +
-                                                   " is not empty; choose a new directory or "
-                                                   "remove the old recording first");
-    } else if (::mkdir(dir.c_str(), 0777) != 0) {
+    const auto another = [&](int e) {
+        return makeError(ErrorKind::Io,
+                         "output directory " + dir +
+                             ": another recording is being written there; wait for it to end "
+                             "or choose another directory",
+                         e);
+    };
+    // mkdir() first, not a stat() before it: two recorders that both saw no directory would
+    // otherwise both go on. The frame file below is the claim that decides between them.
+    if (::mkdir(dir.c_str(), 0777) != 0) {
         const int e = errno;
+        if (e != EEXIST)
+            return makeError(ErrorKind::Io,
+                             "cannot create recording directory " + dir + ": " + errnoText(e) +
+                                 "; check that the parent directory exists and is writable",
+                             e);
         // A file of that name (often a mistyped -o): say so, rather than blame the parent.
-        if (e == EEXIST)
+        if (!isDirectory(dir))
             return makeError(ErrorKind::Usage, "output " + dir +
                                                    " exists and is not a directory; give a new "
                                                    "or empty directory for the recording");
-        return makeError(ErrorKind::Io,
-                         "cannot create recording directory " + dir + ": " + errnoText(e) +
-                             "; check that the parent directory exists and is writable",
-                         e);
+        if (!directoryIsEmpty(dir)) {
+            if (beingWritten(dir)) return another(EBUSY);
+            return makeError(ErrorKind::Usage, "output directory " + dir +
+                                                   " is not empty; choose a new directory or "
+                                                   "remove the old recording first");
+        }
     }
+    // The frame file is claimed before the header is written, so only the winner writes one.
+    const std::string framesPath = dir + "/" + replay::kFramesFileName;
+    const int fd = claimFramesFile(dir, framesPath);
+    if (fd == -EEXIST) return another(EEXIST);
+    if (fd < 0)
+        return makeError(ErrorKind::Io, "cannot create " + framesPath + ": " + errnoText(-fd), -fd);
     // The header goes through a temporary file and rename() so it is never half written.
     const std::string headerPath = dir + "/" + replay::kHeaderFileName;
     const std::string tmpPath = headerPath + ".tmp";
     {
         const std::string text = headerToJson(header).dump(2) + "\n";
         const int fd = ::open(tmpPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-        if (fd < 0 || !writeAll(fd, text.data(), text.size()) || ::fsync(fd) != 0) {
+        const int hfd = ::open(tmpPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+        if (hfd < 0 || !writeAll(hfd, text.data(), text.size()) || ::fsync(hfd) != 0) {
             const int e = errno;
-            if (fd >= 0) ::close(fd);
+            if (hfd >= 0) ::close(hfd);
+            ::close(fd);
             return makeError(ErrorKind::Io, "cannot write " + tmpPath + ": " + errnoText(e), e);
         }
-        ::close(fd);
+        ::close(hfd);
         if (::rename(tmpPath.c_str(), headerPath.c_str()) != 0) {
             const int e = errno;
+            ::close(fd);
             return makeError(ErrorKind::Io, "cannot rename " + tmpPath + ": " + errnoText(e), e);
         }
-    }
-    const std::string framesPath = dir + "/" + replay::kFramesFileName;
-    const int fd =
-        ::open(framesPath.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0666);
-    if (fd < 0) {
-        const int e = errno;
-        return makeError(ErrorKind::Io, "cannot create " + framesPath + ": " + errnoText(e), e);
     }
     return std::unique_ptr<RecordingWriter>(new RecordingWriter(framesPath, fd));
 }
@@ -334,12 +391,18 @@ Status RecordingWriter::append(const Frame& frame) {
     } while (n < 0 && errno == EINTR);
     // Said alike whether the first write or a later part of it fails (a disk that fills up
     // part-way through a frame): what is kept, and what to do.
+    // The torn part of the record is cut off again, so that the file ends with its last whole
+    // frame and replays cleanly rather than reporting damage every time.
     const auto failed = [&](int e) {
+        std::string kept = "; the " + std::to_string(frames_) + " frames before it are kept";
+        if (::ftruncate(fd_, static_cast<off_t>(bytes_)) == 0)
+            kept += " and replay";
+        else
+            kept += " (its torn part could not be removed: " + errnoText(errno) +
+                    "; replay reports it)";
         return makeError(ErrorKind::Io,
                          "cannot write frame " + std::to_string(frames_) + " to " + path_ + ": " +
-                             errnoText(e) + "; the " + std::to_string(frames_) +
-                             " frames before it are kept and replay; free disk space or record "
-                             "to another disk",
+                             errnoText(e) + kept + "; free disk space or record to another disk",
                          e);
     };
     if (n < 0) return failed(errno);
@@ -417,6 +480,7 @@ Result<std::unique_ptr<RecordingReader>> RecordingReader::open(const std::string
         return makeError(ErrorKind::Io, "cannot stat " + r->path_ + ": " + errnoText(e), e);
     }
     const auto fileSize = static_cast<uint64_t>(st.st_size);
+    r->fileSize_ = fileSize;
 
     // Walk the record headers; payloads are checked when read, so opening stays fast.
     uint64_t offset = 0;
@@ -443,13 +507,21 @@ Result<std::unique_ptr<RecordingReader>> RecordingReader::open(const std::string
                          "cannot be located, the frames before it are intact";
             break;
         }
-        const uint64_t end = offset + h.headerBytes + h.payloadBytes;
-        if (end > fileSize) {
-            r->damage_ = where + " is incomplete (" + std::to_string(fileSize - offset) + " of " +
-                         std::to_string(end - offset) +
-                         " bytes; the recording was interrupted); the frames before it are intact";
+        // Lengths are compared with what is left of the file before they are added: a crafted
+        // length near 2^64 would wrap the sum back into the file.
+        if (!recordFits(h, fileSize - offset)) {
+            if (h.payloadBytes > kMaxPayloadBytes)
+                r->damage_ = where + " claims " + std::to_string(h.payloadBytes) +
+                             " bytes of pixel data, more than a record holds (3 planes of at "
+                             "most 4 GiB); its header is damaged, the frames before it are intact";
+            else
+                r->damage_ = where + " is incomplete (" + std::to_string(fileSize - offset) +
+                             " of " + std::to_string(h.headerBytes + h.payloadBytes) +
+                             " bytes; the recording was interrupted); the frames before it are "
+                             "intact";
             break;
         }
+        const uint64_t end = offset + h.headerBytes + h.payloadBytes;
         RecordedFrameInfo info;
         info.sequence = h.sequence;
         info.timestampNs = h.timestampNs;
@@ -475,6 +547,15 @@ Result<Frame> RecordingReader::read(size_t i) const {
         const int e = errno;
         return makeError(ErrorKind::Io, "cannot read " + where + ": " + errnoText(e), e);
     }
+    // The file may have changed since it was indexed: its lengths are checked again before they
+    // size an allocation.
+    if (h.magic != replay::kRecordMagic || headerCrc(h) != h.headerCrc ||
+        h.headerBytes < sizeof h || h.payloadBytes != info.payloadBytes ||
+        info.offset > fileSize_ || !recordFits(h, fileSize_ - info.offset))
+        return makeError(ErrorKind::Corrupt,
+                         where +
+                             " has a record header that no longer matches the file (changed "
+                             "since it was opened, or damaged); it is skipped");
     // The buffer is left uninitialised: every byte is overwritten by the read.
     std::shared_ptr<uint8_t[]> buffer(new uint8_t[h.payloadBytes > 0 ? h.payloadBytes : 1]);
     if (readAt(fd_, buffer.get(), h.payloadBytes, info.offset + h.headerBytes) !=

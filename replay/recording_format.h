@@ -14,7 +14,9 @@
 ///   absent from older recordings), `transfer_origin` (where the source took it from),
 ///   `frames_file`.
 ///
-/// - `frames.bin`: an append-only sequence of records, one per frame, each written with a single
+/// - `frames.bin`: created first, exclusively, as the writer's claim on the directory, and held
+///   under flock(LOCK_EX) while the recording is written. An append-only sequence of records,
+///   one per frame, each written with a single
 ///   write() so that a process killed at any moment leaves every completed record intact and at
 ///   most one incomplete record at the end. A record is a fixed 128-byte little-endian
 ///   RecordHeader followed by `payloadBytes` bytes: the frame's planes, each exactly as captured

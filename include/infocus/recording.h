@@ -42,7 +42,8 @@ RecordingHeader makeRecordingHeader(const SourceInfo& info, const FocusControl* 
 class RecordingWriter {
 public:
     /// Creates @p dir (which must not exist or be empty) and writes its header. Fails with
-    /// ErrorKind::Usage when @p dir holds files, ErrorKind::Io when it cannot be created.
+    /// ErrorKind::Usage when @p dir holds files, ErrorKind::Io when it cannot be created or when
+    /// another writer claimed it first ("another recording is being written there").
     static Result<std::unique_ptr<RecordingWriter>> create(const std::string& dir,
                                                            const RecordingHeader& header);
     ~RecordingWriter();
@@ -105,7 +106,8 @@ public:
     /// nullopt when the file ended cleanly after the last record.
     const std::optional<std::string>& damage() const { return damage_; }
     /// Reads frame @p i with its metadata. Fails with Corrupt (naming the file, frame and
-    /// offset) when its payload fails the CRC, Io on a read error, Usage for i out of range.
+    /// offset) when its payload fails the CRC or its record header no longer fits the file, Io
+    /// on a read error, Usage for i out of range.
     Result<Frame> read(size_t i) const;
     /// The frame file's path.
     const std::string& path() const { return path_; }
@@ -114,6 +116,7 @@ private:
     RecordingReader() = default;
     std::string path_;
     int fd_ = -1;
+    uint64_t fileSize_ = 0;  ///< bytes of the frame file when it was indexed
     RecordingHeader header_;
     std::vector<RecordedFrameInfo> index_;
     std::optional<std::string> damage_;

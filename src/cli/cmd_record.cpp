@@ -32,23 +32,48 @@ extern "C" void onStopSignal(int) {
     gStop.store(true);
 }
 
+// Installs the stop handlers for its lifetime and puts the previous ones back.
+class StopSignals {
+public:
+    StopSignals() {
+        struct sigaction sa {};
+        sa.sa_handler = onStopSignal;
+        sigemptyset(&sa.sa_mask);
+        sigaction(SIGINT, &sa, &oldInt_);
+        sigaction(SIGTERM, &sa, &oldTerm_);
+    }
+    ~StopSignals() {
+        sigaction(SIGINT, &oldInt_, nullptr);
+        sigaction(SIGTERM, &oldTerm_, nullptr);
+    }
+    StopSignals(const StopSignals&) = delete;
+    StopSignals& operator=(const StopSignals&) = delete;
+
+private:
+    struct sigaction oldInt_ {};
+    struct sigaction oldTerm_ {};
+};
+
 int runRecord(const RecordArgs& args) {
     const std::string cmd = "record";
+    // From the very start: opening a source can take a while (a camera, a large sim: scene),
+    // and a signal then must stop the command cleanly, not kill it.
+    const StopSignals signals;
+    const auto stoppedEarly = [&] {
+        std::printf("recorded nothing to %s: stopped by signal while the source was opening\n",
+                    args.output.c_str());
+        std::fflush(stdout);
+        return 0;
+    };
     auto source = openSource(args.source);
+    // A failure caused by the signal (an interrupted open) is the stop, not an error.
+    if (gStop.load()) return stoppedEarly();
     if (!source) return reportError(cmd, source.error());
     FrameSource& src = **source;
     const SourceInfo info = src.info();
     auto writer =
         RecordingWriter::create(args.output, makeRecordingHeader(info, src.focusControl()));
     if (!writer) return reportError(cmd, writer.error());
-
-    struct sigaction sa {};
-    sa.sa_handler = onStopSignal;
-    sigemptyset(&sa.sa_mask);
-    struct sigaction oldInt {
-    }, oldTerm{};
-    sigaction(SIGINT, &sa, &oldInt);
-    sigaction(SIGTERM, &sa, &oldTerm);
 
     if (auto s = src.start(); !s) return reportError(cmd, s.error());
     const auto t0 = std::chrono::steady_clock::now();
@@ -84,8 +109,6 @@ int runRecord(const RecordArgs& args) {
     }
     src.stop();
     const Status closed = (*writer)->close();
-    sigaction(SIGINT, &oldInt, nullptr);
-    sigaction(SIGTERM, &oldTerm, nullptr);
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const SourceStats stats = src.stats();

@@ -165,6 +165,15 @@ Result<Frame> allocateFrame(PixelFormat format, Size size, size_t stride) {
 }
 
 Result<Frame> copyFrame(const Frame& f) {
+    // A producer's frame without pixels behind a plane is a bug there; copying would read
+    // through a null pointer.
+    for (unsigned p = 0; p < f.numPlanes && p < 3; ++p)
+        if (f.planes[p].data == nullptr)
+            return makeError(ErrorKind::Corrupt,
+                             "frame " + std::to_string(f.sequence) +
+                                 " has no pixel data in plane " + std::to_string(p) +
+                                 " (a null buffer from its source); it cannot be copied and is "
+                                 "skipped");
     Frame copy;
     if (f.format == PixelFormat::MJPEG) {
         copy = makeCompressedFrame(f.format, f.size, f.planes[0].data, f.planes[0].size);

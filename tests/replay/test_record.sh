@@ -67,6 +67,20 @@ check "SIGINT exits 0 ($st)" test $st -eq 0
 check "SIGINT summary, before the 30 s bound" grep -q "stopped by signal" "$work/i.out"
 check "SIGINT leaves whole frames only" test $(($(size "$work/i/frames.bin") % rec)) -eq 0
 
+# 3b. SIGTERM while the source opens (a 4000x3000 sim: scene takes about 0.7 s to open): a clean
+# stop with exit 0, nothing recorded or a recording of whole frames; never the default action.
+for delay in 0.1 0.3 0.5; do
+	"$bin" record sim:size=4000x3000,pace=fast -o "$work/o$delay" --frames 1 >"$work/o.out" 2>&1 &
+	pid=$!
+	sleep $delay
+	kill -TERM $pid
+	wait $pid
+	st=$?
+	check "SIGTERM after ${delay} s of opening exits 0 ($st: $(cat "$work/o.out"))" test $st -eq 0
+	check "SIGTERM after ${delay} s leaves whole frames only" \
+		test ! -e "$work/o$delay/frames.bin" -o $(($(size "$work/o$delay/frames.bin" 2>/dev/null || echo 0) % (128 + 4000 * 3000))) -eq 0
+done
+
 # 4. Bad input: clear errors, non-zero exits, no crash.
 out=$("$bin" record "$work/missing" -o "$work/m" 2>&1)
 check "missing recording exits 1 ($out)" test $? -eq 1
@@ -85,6 +99,65 @@ out=$("$bin" record sim: -o "$work/a" --frames 1 2>&1)
 check "non-empty output directory exits 2 ($out)" test $? -eq 2
 out=$("$bin" record sim: -o "$work/x" --frames 3 --seconds 1 2>&1)
 check "--frames with --seconds exits 2" test $? -eq 2
+
+# 5. A crafted record length near 2^64 (header CRC recomputed): the frames before it are kept,
+# the record is named with its byte offset, exit 1; it neither loops nor aborts.
+cp -r "$work/a" "$work/big"
+python3 - "$work/big/frames.bin" $rec <<'PY'
+import struct, sys, zlib
+path, offset = sys.argv[1], int(sys.argv[2])
+with open(path, "r+b") as f:
+    f.seek(offset)
+    h = bytearray(f.read(128))
+    struct.pack_into("<IQ", h, 4, 512, 2**64 - 256)
+    struct.pack_into("<I", h, 124, zlib.crc32(bytes(h[:124])))
+    f.seek(offset)
+    f.write(h)
+PY
+out=$(timeout 20 "$bin" record "$work/big" -o "$work/big2" 2>&1)
+st=$?
+check "crafted record length exits 1 ($st: $out)" test $st -eq 1
+check "crafted record length is named ($out)" grep -q "frames.bin: frame 1 at byte $rec" <<<"$out"
+check "the frame before it is kept" test "$(size "$work/big2/frames.bin")" -eq $rec
+
+# 6. A disk that fills up mid-frame (a 200 KiB file size limit with SIGXFSZ ignored gives EFBIG,
+# as ENOSPC would): the torn frame is cut off, so the two whole frames replay with exit 0.
+out=$( (
+	ulimit -f 200
+	trap '' XFSZ
+	exec "$bin" record sim:size=320x240,pace=fast -o "$work/full" --frames 10
+) 2>&1)
+st=$?
+check "full disk exits 1 ($st: $out)" test $st -eq 1
+check "full disk says what is kept ($out)" grep -q "the 2 frames before it are kept and replay" <<<"$out"
+check "full disk leaves whole frames only" test "$(size "$work/full/frames.bin")" -eq $((2 * rec))
+out=$("$bin" record "$work/full" -o "$work/full2" 2>&1)
+st=$?
+check "the cut recording replays with exit 0 ($st: $out)" test $st -eq 0
+check "the cut recording replays its 2 frames ($out)" grep -q "recorded 2 frames" <<<"$out"
+
+# 7. Two recorders on one new directory: one wins and its header names its own source, the
+# other says another recording is being written there.
+race_ok=0
+for t in $(seq 1 20); do
+	d="$work/race$t"
+	"$bin" record sim:size=32x24,fps=50,seed=1 -o "$d" --frames 5 >"$d.1" 2>&1 &
+	p1=$!
+	"$bin" record sim:size=32x24,fps=50,seed=2 -o "$d" --frames 5 >"$d.2" 2>&1 &
+	p2=$!
+	wait $p1
+	s1=$?
+	wait $p2
+	s2=$?
+	if [ $s1 -eq 0 ] && [ $s2 -eq 1 ]; then win=1 lose=2; elif [ $s1 -eq 1 ] && [ $s2 -eq 0 ]; then win=2 lose=1; else
+		echo "race $t: exits $s1 $s2"
+		continue
+	fi
+	grep -q "another recording is being written there" "$d.$lose" &&
+		grep -q "\"source\": \"sim:size=32x24,fps=50,seed=$win\"" "$d/header.json" &&
+		race_ok=$((race_ok + 1))
+done
+check "20 of 20 recorder races: one wins, the other says why ($race_ok)" test $race_ok -eq 20
 
 echo "record: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
