@@ -464,8 +464,9 @@ private:
         if (inFlight_ == 0) {
             // The camera would starve: hand out a copy and requeue at once.
             auto copy = copyFrame(f);
-            if (!copy) return copy.error();
+            // The request goes back to the camera whether or not the copy worked.
             if (Status s = queue(req); !s) return s.error();
+            if (!copy) return copy.error();
             return *copy;
         }
         auto pool = pool_;

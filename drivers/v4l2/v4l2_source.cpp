@@ -352,8 +352,9 @@ private:
         if (queued_ == 0) {
             // The driver would starve: hand out a copy and give the buffer straight back.
             auto copy = copyFrame(f);
-            if (!copy) return copy.error();
+            // The buffer goes back to the driver whether or not the copy worked.
             if (Status s = queue(buf.index); !s) return s.error();
+            if (!copy) return copy.error();
             return *copy;
         }
         auto pool = pool_;
