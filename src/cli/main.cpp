@@ -40,6 +40,16 @@ int run(int argc, char** argv) {
         }
         command = argv[1];
     }
+    // CLI11 would answer an unknown option before any command with "a subcommand is required".
+    if (argc > 1 && argv[1][0] == '-') {
+        const std::string arg = argv[1];
+        if (arg != "-h" && arg != "--help" && arg != "--version") {
+            std::cerr << "infocus: '" << arg
+                      << "' is not an option; infocus takes --help, --version or a command first\n"
+                         "Run 'infocus --help' for the commands.\n";
+            return infocus::cli::kExitUsage;
+        }
+    }
     // An empty value ('--coc ""', '--focal=') would otherwise read as an option not given, or
     // as 0 for a number: the command would run on a default the user did not choose.
     for (int i = 2; i < argc; ++i) {

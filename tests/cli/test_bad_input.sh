@@ -7,6 +7,9 @@ source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
 
 # STATUS | PATTERN | ARGS (split on spaces)
 table=(
+	"2|'--bogus'.*not an option|--bogus"
+	"2|'-x'.*not an option|-x"
+	"2|'--bogus'.*not an option|--bogus analyze sim:"
 )
 for row in "${table[@]}"; do
 	IFS='|' read -r want pat args <<<"$row"
