@@ -32,5 +32,25 @@ out=$(
 st=$?
 if [[ $st -eq 1 ]] && grep -q 'memory' <<<"$out"; then ok; else bad "out of memory -> status $st: $out"; fi
 
+# An existing -o file survives a failure before output starts: a source that does not open, an
+# option it refuses.
+keep() { # keep STATUS FILE -- ARGS...: ARGS exits with STATUS and FILE holds what it held
+	local want=$1 file=$2
+	shift 3
+	echo 'yesterday' >"$file"
+	"$bin" "$@" >/dev/null 2>&1
+	local st=$?
+	if [[ $st -eq $want && $(cat "$file") == yesterday ]]; then
+		ok
+	else
+		bad "infocus $* -> status $st (want $want), $file now: $(head -c 80 "$file")"
+	fi
+}
+keep 1 "$tmp/out.jsonl" -- analyze "$tmp/no-such.y4m" -o "$tmp/out.jsonl"
+keep 2 "$tmp/out.jsonl" -- analyze sim:bogus=1 -o "$tmp/out.jsonl"
+keep 2 "$tmp/out.jsonl" -- analyze sim:size=64x48 --roi 0,0,500,500 -o "$tmp/out.jsonl"
+"$bin" analyze sim:size=64x48,pace=fast --frames 2 -o "$tmp/out.jsonl" 2>/dev/null &&
+	[[ $(wc -l <"$tmp/out.jsonl") -eq 2 ]] && ok || bad "analyze -o did not write 2 lines"
+
 echo "bad input: $pass passed, $fail failed"
 [[ $fail -eq 0 ]]
