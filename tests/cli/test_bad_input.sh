@@ -51,6 +51,14 @@ keep 2 "$tmp/out.jsonl" -- analyze sim:bogus=1 -o "$tmp/out.jsonl"
 keep 2 "$tmp/out.jsonl" -- analyze sim:size=64x48 --roi 0,0,500,500 -o "$tmp/out.jsonl"
 "$bin" analyze sim:size=64x48,pace=fast --frames 2 -o "$tmp/out.jsonl" 2>/dev/null &&
 	[[ $(wc -l <"$tmp/out.jsonl") -eq 2 ]] && ok || bad "analyze -o did not write 2 lines"
+# A sweep that fails to start leaves no empty sweep.jsonl that would make the next run refuse
+# the directory as a sweep's.
+"$bin" sweep sim:bogus=1 -o "$tmp/sweep" >/dev/null 2>&1
+[[ $? -eq 2 && ! -e $tmp/sweep/sweep.jsonl ]] && ok || bad "sweep with a bad source left sweep.jsonl"
+"$bin" sweep sim:pace=fast --from nonsense -o "$tmp/sweep" >/dev/null 2>&1
+[[ $? -ne 0 && ! -e $tmp/sweep/sweep.jsonl ]] && ok || bad "sweep with a bad --from left sweep.jsonl"
+"$bin" sweep sim:pace=fast,size=64x48 --steps 3 -o "$tmp/sweep" >/dev/null 2>&1 &&
+	[[ -s $tmp/sweep/summary.json ]] && ok || bad "sweep -o after the failures"
 
 echo "bad input: $pass passed, $fail failed"
 [[ $fail -eq 0 ]]
