@@ -59,6 +59,33 @@ keep 2 "$tmp/out.jsonl" -- analyze sim:size=64x48 --roi 0,0,500,500 -o "$tmp/out
 [[ $? -ne 0 && ! -e $tmp/sweep/sweep.jsonl ]] && ok || bad "sweep with a bad --from left sweep.jsonl"
 "$bin" sweep sim:pace=fast,size=64x48 --steps 3 -o "$tmp/sweep" >/dev/null 2>&1 &&
 	[[ -s $tmp/sweep/summary.json ]] && ok || bad "sweep -o after the failures"
+# report -o writes through a symlink (the target gets the report, the link stays), writes
+# devices and FIFOs directly and never replaces them with a regular file.
+rep=(report sim:size=64x48,pace=fast --frames 1 --grid 2x2)
+mkdir "$tmp/r" && echo old >"$tmp/r/target.html" && ln -s target.html "$tmp/r/link.html"
+"$bin" "${rep[@]}" -o "$tmp/r/link.html" >/dev/null 2>&1
+[[ $? -eq 0 && -L $tmp/r/link.html ]] && grep -q '<html' "$tmp/r/target.html" && ok ||
+	bad "report -o through a symlink: $(ls -l "$tmp/r")"
+ln -s new.html "$tmp/r/dangling.html"
+"$bin" "${rep[@]}" -o "$tmp/r/dangling.html" >/dev/null 2>&1
+[[ $? -eq 0 && -L $tmp/r/dangling.html ]] && grep -q '<html' "$tmp/r/new.html" && ok ||
+	bad "report -o through a dangling symlink: $(ls -l "$tmp/r")"
+mkfifo "$tmp/r/fifo"
+timeout 60 cat "$tmp/r/fifo" >"$tmp/r/from-fifo" &
+reader=$!
+timeout 60 "$bin" "${rep[@]}" -o "$tmp/r/fifo" >/dev/null 2>&1
+st=$?
+wait $reader
+[[ $st -eq 0 && -p $tmp/r/fifo ]] && grep -q '<html' "$tmp/r/from-fifo" && ok ||
+	bad "report -o FIFO -> status $st: $(ls -l "$tmp/r")"
+if [[ $(id -u) -eq 0 ]]; then # device nodes of our own: /dev/null's and /dev/full's numbers
+	mknod "$tmp/r/null" c 1 3 && mknod "$tmp/r/full" c 1 7
+	"$bin" "${rep[@]}" -o "$tmp/r/null" >/dev/null 2>&1
+	[[ $? -eq 0 && -c $tmp/r/null ]] && ok || bad "report -o a null device replaced it"
+	out=$("$bin" "${rep[@]}" -o "$tmp/r/full" 2>&1 >/dev/null)
+	[[ $? -eq 1 && -c $tmp/r/full ]] && grep -q "$tmp/r/full" <<<"$out" && ok ||
+		bad "report -o a full device: $out; $(ls -l "$tmp/r/full")"
+fi
 
 echo "bad input: $pass passed, $fail failed"
 [[ $fail -eq 0 ]]
