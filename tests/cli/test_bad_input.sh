@@ -102,6 +102,17 @@ if [[ $(id -u) -eq 0 ]]; then # device nodes of our own: /dev/null's and /dev/fu
 	[[ $? -eq 1 && -c $tmp/r/full ]] && grep -q "$tmp/r/full" <<<"$out" && ok ||
 		bad "report -o a full device: $out; $(ls -l "$tmp/r/full")"
 fi
+# A recording whose header.json is there but cannot be read is not called one without it.
+"$bin" record sim:size=64x48,pace=fast --frames 2 -o "$tmp/rec" >/dev/null 2>&1
+mv "$tmp/rec/header.json" "$tmp/header.json" && ln -s "$tmp/gone.json" "$tmp/rec/header.json"
+expect 1 'header.json.*(missing|cannot read)' -- analyze "$tmp/rec"
+if [[ $(id -u) -ne 0 ]]; then # root reads any file
+	rm "$tmp/rec/header.json" && cp "$tmp/header.json" "$tmp/rec/" && chmod 000 "$tmp/rec/header.json"
+	expect 1 'cannot read.*header.json' -- analyze "$tmp/rec"
+	chmod 000 "$tmp/rec"
+	expect 1 'cannot read directory' -- analyze "$tmp/rec"
+	chmod 755 "$tmp/rec"
+fi
 
 echo "bad input: $pass passed, $fail failed"
 [[ $fail -eq 0 ]]
