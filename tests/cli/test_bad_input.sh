@@ -113,6 +113,18 @@ if [[ $(id -u) -ne 0 ]]; then # root reads any file
 	expect 1 'cannot read directory' -- analyze "$tmp/rec"
 	chmod 755 "$tmp/rec"
 fi
+# An image too large for a frame is named, a runtime failure (the file, not the command line).
+python3 - "$tmp/big.png" <<'PY'
+import struct, sys, zlib
+def chunk(t, d):
+    return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d))
+w = h = 17000
+rows = zlib.compress(b"\0" * ((w + 1) * h), 9)
+with open(sys.argv[1], "wb") as f:
+    f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0)))
+    f.write(chunk(b"IDAT", rows) + chunk(b"IEND", b""))
+PY
+expect 1 'big.png is 17000x17000' -- analyze "$tmp/big.png"
 
 echo "bad input: $pass passed, $fail failed"
 [[ $fail -eq 0 ]]
