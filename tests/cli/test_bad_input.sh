@@ -125,6 +125,27 @@ with open(sys.argv[1], "wb") as f:
     f.write(chunk(b"IDAT", rows) + chunk(b"IEND", b""))
 PY
 expect 1 'big.png is 17000x17000' -- analyze "$tmp/big.png"
+# depth's JSONL input: a field of the wrong type is named with its line, not "cannot use at()".
+"$bin" analyze sim:size=64x48,pace=fast --frames 2 --grid 2x2 >"$tmp/a.jsonl" 2>/dev/null
+jsonl() { # jsonl NAME PYTHON: a.jsonl with its second record changed by PYTHON (on r)
+	python3 - "$tmp/a.jsonl" "$tmp/$1.jsonl" "$2" <<'PY'
+import json, sys
+lines = [json.loads(x) for x in open(sys.argv[1])]
+r = lines[1]
+exec(sys.argv[3])
+open(sys.argv[2], "w").write("".join(json.dumps(x) + "\n" for x in lines))
+PY
+}
+jsonl regions-number 'r["regions"] = 5'
+expect 1 'line 2.*"regions" must be an array' -- depth "$tmp/regions-number.jsonl" --lens rpi-cam3
+jsonl region-number 'r["regions"][1] = 5'
+expect 1 'line 2.*region 2: the region must be an object' -- depth "$tmp/region-number.jsonl" --lens rpi-cam3
+jsonl lens-null 'r["lens_position"]["value"] = None'
+expect 1 'line 2.*"lens_position".*"value"' -- depth "$tmp/lens-null.jsonl" --lens rpi-cam3
+jsonl metric-number 'r["metric"] = 5'
+expect 1 'line 2.*"metric" must be a string' -- depth "$tmp/metric-number.jsonl" --lens rpi-cam3
+jsonl sharpness-string 'r["regions"][0]["sharpness"] = "high"'
+expect 1 'line 2.*region 1: "sharpness" must be a number' -- depth "$tmp/sharpness-string.jsonl" --lens rpi-cam3
 
 echo "bad input: $pass passed, $fail failed"
 [[ $fail -eq 0 ]]
