@@ -146,6 +146,11 @@ jsonl metric-number 'r["metric"] = 5'
 expect 1 'line 2.*"metric" must be a string' -- depth "$tmp/metric-number.jsonl" --lens rpi-cam3
 jsonl sharpness-string 'r["regions"][0]["sharpness"] = "high"'
 expect 1 'line 2.*region 1: "sharpness" must be a number' -- depth "$tmp/sharpness-string.jsonl" --lens rpi-cam3
+# A Y4M header line longer than the reader takes is said to be too long, not another format.
+{ printf 'YUV4MPEG2 W16 H16 F30:1 C420jpeg X'; head -c 5000 /dev/zero | tr '\0' a; printf '\n'; } >"$tmp/long.y4m"
+expect 1 'long.y4m: its YUV4MPEG2 header line does not end within 4096 bytes' -- analyze "$tmp/long.y4m"
+: >"$tmp/empty.y4m"
+expect 1 'empty.y4m: is empty' -- analyze "$tmp/empty.y4m"
 
 echo "bad input: $pass passed, $fail failed"
 [[ $fail -eq 0 ]]
