@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: MIT
 // The path source: which reader a path is for (a recording directory, a Y4M file, image files,
 // a directory or glob of them, or a video file), and recordings as a reader.
+#include <fcntl.h>
 #include <glob.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 
 #include "infocus/recording.h"
 #include "replay/decoders/decoders.h"
@@ -60,6 +64,26 @@ bool exists(const std::string& path) {
     return ::stat(path.c_str(), &st) == 0;
 }
 
+// Why @p file is there but cannot be read (no permission, a link to a missing file), or
+// nothing when it reads or is not there at all: a recording's header that cannot be read is
+// not a recording without one.
+std::optional<Error> unreadable(const std::string& file) {
+    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd >= 0) {
+        ::close(fd);
+        return std::nullopt;
+    }
+    const int e = errno;
+    struct stat st;
+    if (e == ENOENT && ::lstat(file.c_str(), &st) == 0)
+        return makeError(ErrorKind::Io, "cannot read " + file +
+                                            ": it is a link to a missing file; restore the file "
+                                            "it points to");
+    if (e == ENOENT) return std::nullopt;
+    return makeError(ErrorKind::Io,
+                     "cannot read " + file + ": " + std::strerror(e) + "; check its permissions");
+}
+
 }  // namespace
 
 Result<std::unique_ptr<FrameSource>> openPathSource(const SourceSpec& spec) {
@@ -68,6 +92,10 @@ Result<std::unique_ptr<FrameSource>> openPathSource(const SourceSpec& spec) {
         path.pop_back();
 
     if (isDirectory(path)) {
+        if (::access(path.c_str(), R_OK | X_OK) != 0)
+            return makeError(ErrorKind::Io, "cannot read directory " + path + ": " +
+                                                std::strerror(errno) + "; check its permissions");
+        if (auto e = unreadable(path + "/" + kHeaderFileName)) return *e;
         if (exists(path + "/" + kHeaderFileName)) {
             auto options = parsePlaybackOptions(spec);
             if (!options) return options.error();

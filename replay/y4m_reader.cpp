@@ -29,6 +29,9 @@ std::optional<int> wholeNumber(std::string_view text, int lo, int hi) {
     return v;
 }
 
+// The longest header or FRAME line read (with its '\n').
+constexpr size_t kMaxLineBytes = 4096;
+
 class Y4mReader final : public FrameReader {
 public:
     static Result<std::unique_ptr<FrameReader>> open(const std::string& path,
@@ -50,8 +53,18 @@ public:
         r->path_ = path;
         r->text_ = text;
         std::string line;
-        if (!r->readLine(0, line) || line.rfind("YUV4MPEG2", 0) != 0)
+        if (!r->readLine(0, line)) {
+            // The signature without the end of its line is a header too long (or cut short),
+            // not a file of another kind.
+            char head[9] = {};
+            const ssize_t n = ::pread(fd, head, sizeof head, 0);
+            if (n == 0) return bad("is empty (0 bytes)");
+            if (n == sizeof head && std::memcmp(head, "YUV4MPEG2", sizeof head) == 0)
+                return bad("its YUV4MPEG2 header line does not end within " +
+                           std::to_string(kMaxLineBytes) + " bytes (too long, or cut short)");
             return bad("does not start with a YUV4MPEG2 header");
+        }
+        if (line.rfind("YUV4MPEG2", 0) != 0) return bad("does not start with a YUV4MPEG2 header");
         std::istringstream tokens(line.substr(9));
         std::string tok, colour = "420jpeg";
         int fpsNum = 0, fpsDen = 1;
@@ -213,7 +226,7 @@ private:
 
     // Reads the text line at @p offset (without its '\n'); false when no '\n' within 4 KiB.
     bool readLine(uint64_t offset, std::string& line) const {
-        char buf[4096];
+        char buf[kMaxLineBytes];
         const ssize_t n = ::pread(fd_, buf, sizeof buf, static_cast<off_t>(offset));
         if (n <= 0) return false;
         const void* nl = std::memchr(buf, '\n', static_cast<size_t>(n));

@@ -67,7 +67,9 @@ private:
 };
 
 /// Writes @p text to @p path through a temporary file beside it and a rename, so that a failed
-/// write never leaves half a report (nor destroys an older one). Errors name the path.
+/// write never leaves half a report (nor destroys an older one). A symbolic link is written
+/// through (its target replaced, the link kept); a device or FIFO is written directly, never
+/// replaced. Errors name the path.
 Status writeFileAtomically(const std::string& path, const std::string& text);
 
 }  // namespace infocus

@@ -14,6 +14,23 @@ Result<Frame> decodeImage(const std::vector<uint8_t>& bytes, const std::string& 
         return makeError(ErrorKind::Corrupt,
                          "image " + path + " " + what + "; copy or export it again");
     };
+    const auto tooLarge = [&](int64_t w, int64_t h) {
+        return makeError(ErrorKind::Unsupported,
+                         "image " + path + " is " + std::to_string(w) + "x" + std::to_string(h) +
+                             " pixels, more than the " + maxFrameSizeText() +
+                             " a frame may hold; scale it down or crop it");
+    };
+    // A PNG names its size in its first chunk: one too large is refused before it is decoded
+    // (a 17000x17000 grey PNG is 289 MB of pixels).
+    static const uint8_t kPngSignature[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (bytes.size() >= 24 && std::memcmp(bytes.data(), kPngSignature, 8) == 0 &&
+        std::memcmp(bytes.data() + 12, "IHDR", 4) == 0) {
+        const auto be32 = [&](size_t at) {
+            return int64_t{bytes[at]} << 24 | int64_t{bytes[at + 1]} << 16 |
+                   int64_t{bytes[at + 2]} << 8 | int64_t{bytes[at + 3]};
+        };
+        if (!withinFrameLimit(be32(16), be32(20))) return tooLarge(be32(16), be32(20));
+    }
     cv::Mat m;
     try {
         m = cv::imdecode(bytes, cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
@@ -38,6 +55,8 @@ Result<Frame> decodeImage(const std::vector<uint8_t>& bytes, const std::string& 
                              " has samples that are neither 8- nor 16-bit integers; "
                              "convert it to 8- or 16-bit PNG or TIFF");
     }
+    // Other formats are checked once decoded: the frame's own check would not name the file.
+    if (!withinFrameLimit(m.cols, m.rows)) return tooLarge(m.cols, m.rows);
     auto frame = allocateFrame(format, {m.cols, m.rows});
     if (!frame) return frame.error();
     const size_t rowBytes = m.cols * m.elemSize();

@@ -7,6 +7,7 @@
 
 #include "infocus/sim.h"
 #include "replay/playback.h"
+#include "src/core/read_number.h"
 
 namespace infocus {
 
@@ -38,11 +39,13 @@ Result<SimConfig> parseSimOptions(const std::map<std::string, std::string>& opti
         }
         return std::nullopt;
     };
-    const auto sizeOf = [](const std::string& v) -> std::optional<Size> {
+    // WIDTHxHEIGHT within [1, @p most] each, read whole (sscanf's %d overflows undefinedly).
+    const auto sizeOf = [](const std::string& v, int most) -> std::optional<Size> {
+        const size_t x = v.find_first_of("xX");
         int w = 0, h = 0;
-        char x = 0;
-        if (std::sscanf(v.c_str(), "%d%c%d", &w, &x, &h) != 3 || (x != 'x' && x != 'X') || w <= 0 ||
-            h <= 0)
+        if (x == std::string::npos || !readsWhole(std::string_view(v).substr(0, x), w) ||
+            !readsWhole(std::string_view(v).substr(x + 1), h) || w < 1 || h < 1 || w > most ||
+            h > most)
             return std::nullopt;
         return Size{w, h};
     };
@@ -89,7 +92,11 @@ Result<SimConfig> parseSimOptions(const std::map<std::string, std::string>& opti
             if (v.size() > 3 && v.compare(v.size() - 3, 3, "deg") == 0) v.resize(v.size() - 3);
             char* end = nullptr;
             const double d = std::strtod(v.c_str(), &end);
-            if (v.empty() || *end) return bad(key, value, "give an angle in degrees, e.g. 30");
+            // NaN passes every comparison of the renderer and an infinite angle has no sine.
+            if (key == "tilt" && (v.empty() || *end || !(std::abs(d) < 80)))
+                return bad(key, value, "give the plane's tilt in degrees within ±80, e.g. 30");
+            if (key == "angle" && (v.empty() || *end || !(std::abs(d) <= 360)))
+                return bad(key, value, "give the edges' angle in degrees within ±360, e.g. 5");
             (key == "tilt" ? c.tiltDeg : c.edgeAngleDeg) = d;
         } else if (key == "axis") {
             if (value == "x")
@@ -98,10 +105,19 @@ Result<SimConfig> parseSimOptions(const std::map<std::string, std::string>& opti
                 c.tiltAxis = SimAxis::Y;
             else
                 return bad(key, value, "use x or y");
-        } else if (key == "size" || key == "sensor") {
-            auto s = sizeOf(value);
-            if (!s) return bad(key, value, "give WIDTHxHEIGHT, e.g. 1280x720");
-            (key == "size" ? c.size : c.lens.sensorSize) = *s;
+        } else if (key == "size") {
+            // The dead-leaves texture's largest discs are a twentieth of the width: at 30 px
+            // they are no larger than its smallest, and their mean area is 0 / 0.
+            auto s = sizeOf(value, 8192);
+            if (!s || s->width < 32 || s->height < 16)
+                return bad(key, value,
+                           "give WIDTHxHEIGHT from 32x16 to 8192x8192 pixels, e.g. 1280x720");
+            c.size = *s;
+        } else if (key == "sensor") {
+            auto s = sizeOf(value, 100000);
+            if (!s)
+                return bad(key, value, "give the sensor's WIDTHxHEIGHT in pixels, e.g. 4608x2592");
+            c.lens.sensorSize = *s;
         } else if (key == "fps") {
             auto v = replay::parseNumber(value);
             if (!v || !(*v >= replay::kMinFps && *v <= replay::kMaxFps))
@@ -112,9 +128,9 @@ Result<SimConfig> parseSimOptions(const std::map<std::string, std::string>& opti
             if (!v || *v > 1) return bad(key, value, "give σ as a fraction of full scale, 0..1");
             c.noise = *v;
         } else if (key == "seed") {
-            auto v = replay::parseNumber(value);
-            if (!v || std::floor(*v) != *v) return bad(key, value, "give a non-negative integer");
-            c.seed = static_cast<uint64_t>(*v);
+            // Read as an integer: a double loses seeds past 2^53 and casts 2^64 undefinedly.
+            if (!readsWhole(value, c.seed))
+                return bad(key, value, "give a whole number from 0 to 18446744073709551615");
         } else if (key == "format") {
             if (value == "GREY" || value == "grey")
                 c.format = PixelFormat::GREY;
@@ -135,11 +151,14 @@ Result<SimConfig> parseSimOptions(const std::map<std::string, std::string>& opti
             c.lens.focalLengthM = *m;
         } else if (key == "fnumber") {
             auto v = replay::parseNumber(value);
-            if (!v || *v <= 0) return bad(key, value, "give a positive f-number, e.g. 1.8");
+            if (!v || *v < 0.5 || *v > 128)
+                return bad(key, value, "give an f-number from 0.5 to 128, e.g. 1.8");
             c.lens.fNumber = *v;
         } else if (key == "pitch") {
             auto m = length(value);
-            if (!m) return bad(key, value, "give the sensor pixel pitch with a unit, e.g. 1.4um");
+            if (!m || *m < 0.1e-6 || *m > 1e-3)
+                return bad(key, value,
+                           "give the sensor pixel pitch from 0.1um to 1mm with a unit, e.g. 1.4um");
             c.lens.sensorPixelPitchM = *m;
         } else {
             return makeError(ErrorKind::Usage,
@@ -151,6 +170,29 @@ Result<SimConfig> parseSimOptions(const std::map<std::string, std::string>& opti
     }
     if (c.scene == SimScene::Steps && !options.count("distances"))
         c.distancesM = {0.3, 0.6, 1.2, 2.4, 4.8};
+    // A focus nearer than the focal length has no image behind the lens.
+    if (c.focusDioptres * c.lens.focalLengthM >= 1) {
+        const auto it = options.find("focus");
+        return makeError(ErrorKind::Usage,
+                         "sim: option focus=" + (it != options.end() ? it->second : "") +
+                             ": the lens focuses no nearer than its focal length; give a "
+                             "farther focus, e.g. 1m");
+    }
+    // The diffraction blur in output pixels sets the renderer's margins: a sensor much
+    // narrower than the output (pixels far below the pitch) would make them unbounded.
+    const double sigmaPx =
+        0.42 * kSimWavelengthM * c.lens.fNumber / c.lens.pixelPitchM(c.size.width);
+    if (!(sigmaPx <= 16)) {
+        std::string given;
+        for (const char* k : {"fnumber", "pitch", "sensor", "size"})
+            if (auto it = options.find(k); it != options.end())
+                given += std::string(given.empty() ? "" : ", ") + k + "=" + it->second;
+        return makeError(ErrorKind::Usage,
+                         "sim: the lens's diffraction blur would have σ = " +
+                             std::to_string(static_cast<int>(std::min(sigmaPx, 1e9))) +
+                             " output pixels, more than 16 (" + given +
+                             "); give a sensor= at least as wide as size=, or a smaller fnumber=");
+    }
     if (c.format == PixelFormat::YUYV && c.size.width % 2)
         return makeError(ErrorKind::Usage, "sim: format=YUYV needs an even width");
     return c;

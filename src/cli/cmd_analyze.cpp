@@ -90,16 +90,12 @@ int runAnalyze(const AnalyzeArgs& args) {
     if (args.format != "jsonl" && args.format != "csv" && args.format != "table")
         return usageError(cmd, "--format " + args.format + ": use jsonl, csv or table");
 
+    // The file is opened (and emptied) with the first frame measured: a source that does not
+    // open, or options it refuses, leave an existing file as it was.
+    const bool toFile = !args.output.empty() && args.output != "-";
     std::ofstream file;
-    if (!args.output.empty() && args.output != "-") {
-        file.open(args.output, std::ios::out | std::ios::trunc);
-        if (!file)
-            return reportError(cmd, makeError(ErrorKind::Io, "cannot write '" + args.output +
-                                                                 "'; check the folder exists and "
-                                                                 "is writable"));
-    }
-    std::ostream& out = file.is_open() ? static_cast<std::ostream&>(file) : std::cout;
-    const std::string where = file.is_open() ? args.output : "standard output";
+    std::ostream& out = toFile ? static_cast<std::ostream&>(file) : std::cout;
+    const std::string where = toFile ? args.output : "standard output";
     uint64_t written = 0, damaged = 0;
     std::streamoff complete = 0;  // bytes of the frames written whole
     bool warnedSharpened = false;
@@ -115,6 +111,13 @@ int runAnalyze(const AnalyzeArgs& args) {
             else
                 text << toJsonLine(a) << '\n';
             const std::string bytes = text.str();
+            if (toFile && !file.is_open()) {
+                file.open(args.output, std::ios::out | std::ios::trunc);
+                if (!file)
+                    return makeError(ErrorKind::Io, "cannot write '" + args.output +
+                                                        "'; check the folder exists and is "
+                                                        "writable");
+            }
             errno = 0;
             out << bytes;
             out.flush();  // a frame measured is a frame kept

@@ -87,12 +87,6 @@ int runSweepCommand(const SweepArgs& args) {
             if (fs::exists(dir / f, ec))
                 return usageError(cmd, "-o " + args.output + " already holds a sweep (" + f +
                                            "); give a new or empty directory");
-        fs::create_directories(dir, ec);
-        jsonl.open(dir / "sweep.jsonl", std::ios::out | std::ios::trunc);
-        if (ec || !jsonl)
-            return reportError(
-                cmd, makeError(ErrorKind::Io, "cannot write in '" + args.output +
-                                                  "'; check that it can be created and written"));
     }
 
     auto source = openSource(args.source);
@@ -114,6 +108,17 @@ int runSweepCommand(const SweepArgs& args) {
         writeSweepHeader(std::cout, args.source, range, options.from.value_or(range.min),
                          options.to.value_or(range.max), args.steps, args.refine, settle);
     };
+    // Created once the source is open and the range accepted: a failed start leaves no empty
+    // sweep.jsonl behind, which would make the next run refuse the directory as a sweep's.
+    if (!dir.empty()) {
+        std::error_code ec;
+        fs::create_directories(dir, ec);
+        jsonl.open(dir / "sweep.jsonl", std::ios::out | std::ios::trunc);
+        if (ec || !jsonl)
+            return reportError(
+                cmd, makeError(ErrorKind::Io, "cannot write in '" + args.output +
+                                                  "'; check that it can be created and written"));
+    }
     if (auto s = src.start(); !s) return reportError(cmd, s.error());
     size_t written = 0;
     auto result = runSweep(src, options, [&](const SweepStep& s) -> Status {

@@ -5,12 +5,16 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include "commands.h"
 #include "infocus_config.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+// Parses the command line and runs the command it names; returns the exit status.
+int run(int argc, char** argv) {
     CLI::App app{
         "infocus: how sharp each part of a camera image is, how wide its blur is, and where the "
         "lens is focused.",
@@ -35,6 +39,16 @@ int main(int argc, char** argv) {
             return infocus::cli::kExitUsage;
         }
         command = argv[1];
+    }
+    // CLI11 would answer an unknown option before any command with "a subcommand is required".
+    if (argc > 1 && argv[1][0] == '-') {
+        const std::string arg = argv[1];
+        if (arg != "-h" && arg != "--help" && arg != "--version") {
+            std::cerr << "infocus: '" << arg
+                      << "' is not an option; infocus takes --help, --version or a command first\n"
+                         "Run 'infocus --help' for the commands.\n";
+            return infocus::cli::kExitUsage;
+        }
     }
     // An empty value ('--coc ""', '--focal=') would otherwise read as an option not given, or
     // as 0 for a number: the command would run on a default the user did not choose.
@@ -86,4 +100,25 @@ int main(int argc, char** argv) {
         return infocus::cli::kExitFailure;
     }
     return infocus::cli::kExitUsage;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    // An exception that escapes a command (memory that runs out, a library that throws) is a
+    // failure to report, not an abort that loses the reason and leaves a core file.
+    const std::string label =
+        argc > 1 && argv[1][0] != '-' ? "infocus " + std::string(argv[1]) : std::string("infocus");
+    try {
+        return run(argc, argv);
+    } catch (const std::bad_alloc&) {
+        std::cerr << label
+                  << ": out of memory; free memory, or give a smaller input (size, regions, "
+                     "frames)\n";
+    } catch (const std::exception& e) {
+        std::cerr << label << ": failed: " << e.what() << "\n";
+    } catch (...) {
+        std::cerr << label << ": failed with an unknown error\n";
+    }
+    return infocus::cli::kExitFailure;
 }

@@ -85,9 +85,38 @@ int64_t integer(const Json& o, const char* key, int64_t lo, int64_t hi) {
     throw BadField{why};
 }
 
+// @p key in quotes, as the record spells it (appended piece by piece: GCC 12 warns on a chain).
+std::string quoted(const char* key) {
+    std::string q = "\"";
+    q += key;
+    q += "\"";
+    return q;
+}
+
+// @p v of the wrong JSON type for @p field, which must be @p want ("a number"): a BadField
+// naming both, where nlohmann would say "type must be number, but is null" and no more.
+[[noreturn]] void wrongType(const std::string& field, const char* want, const Json& v) {
+    std::string why = field;
+    why += " must be ";
+    why += want;
+    why += " (it is ";
+    why += v.dump();
+    why += ")";
+    throw BadField{why};
+}
+
+// The value of @p key in @p o, which must be there and be of type @p is (want in words).
+const Json& typed(const Json& o, const char* key, bool (Json::*is)() const noexcept,
+                  const char* want) {
+    const Json& v = o.at(key);
+    if (!(v.*is)()) wrongType(quoted(key), want, v);
+    return v;
+}
+
 // The number @p key of @p o within [@p lo, @p hi], or empty when absent or null.
 std::optional<double> number(const Json& o, const char* key, double lo, double hi) {
     if (!o.contains(key) || o[key].is_null()) return std::nullopt;
+    if (!o[key].is_number()) wrongType(quoted(key), "a number or null", o[key]);
     const double v = o[key].get<double>();
     if (v >= lo && v <= hi) return v;
     std::string why = "\"";
@@ -127,21 +156,34 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
                             : int64_t{0};
         a.width = static_cast<int>(integer(j, "width", 1, kIntMax));
         a.height = static_cast<int>(integer(j, "height", 1, kIntMax));
-        a.metric = j.value("metric", std::string());
-        a.frameSharpness = j.value("frame_sharpness", 0.0);
+        if (j.contains("metric"))
+            a.metric = typed(j, "metric", &Json::is_string, "a string").get<std::string>();
+        if (j.contains("frame_sharpness"))
+            a.frameSharpness =
+                typed(j, "frame_sharpness", &Json::is_number, "a number").get<double>();
         if (j.contains("noise_sigma") && j["noise_sigma"].is_number())
             a.noiseSigma = j["noise_sigma"].get<double>();
         if (j.contains("lens_position") && j["lens_position"].is_object()) {
             const Json& l = j["lens_position"];
             LensPosition p;
-            p.value = l.at("value").get<double>();
-            p.unit = l.at("unit").get<std::string>();
+            // A position the camera could not read (NaN) is written as null: say which field.
+            const Json& value = l.at("value");
+            if (value.is_null())
+                throw BadField{
+                    "\"lens_position\" \"value\" is null: the lens position of the "
+                    "frame was not known; give frames whose lens position was read"};
+            if (!value.is_number()) wrongType("\"lens_position\" \"value\"", "a number", value);
+            p.value = value.get<double>();
+            p.unit = typed(l, "unit", &Json::is_string, "a string").get<std::string>();
             if (l.contains("dioptres") && l["dioptres"].is_number())
                 p.dioptres = l["dioptres"].get<double>();
             a.lens = p;
         }
-        for (const Json& o : j.at("regions")) {
+        // A number or an object iterates too (as itself or its values): check the shape first.
+        const Json& regions = typed(j, "regions", &Json::is_array, "an array of regions");
+        for (const Json& o : regions) {
             ++region;
+            if (!o.is_object()) wrongType("the region", "an object", o);
             RegionResult r;
             r.col = static_cast<int>(integer(o, "col", 0, kIntMax));
             r.row = static_cast<int>(integer(o, "row", 0, kIntMax));
@@ -149,7 +191,7 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
                       static_cast<int>(integer(o, "y", 0, kIntMax)),
                       static_cast<int>(integer(o, "w", 1, kIntMax)),
                       static_cast<int>(integer(o, "h", 1, kIntMax))};
-            r.sharpness = o.at("sharpness").get<double>();
+            r.sharpness = typed(o, "sharpness", &Json::is_number, "a number").get<double>();
             // Widths are lengths: a negative one is no blur analyze measures.
             r.edgeWidthPx = number(o, "edge_width_px", 0.0, kHuge);
             r.blurSigmaPx = number(o, "blur_sigma_px", 0.0, kHuge);

@@ -332,3 +332,25 @@ TEST_CASE("sim: YUYV output, options and errors") {
         REQUIRE_THAT(e.error().message, Catch::Contains("sim:"));
     }
 }
+
+TEST_CASE("sim: numeric options out of range are usage errors naming the option") {
+    for (const char* bad :
+         {"seed=18446744073709551616", "seed=1.5", "size=30x20", "size=99999999999x20", "angle=nan",
+          "angle=inf", "tilt=nan", "tilt=-inf", "fnumber=1e300", "pitch=1e-300m", "sensor=1x1",
+          "focus=1e300dpt", "focus=1mm"}) {
+        INFO(bad);
+        auto spec = parseSourceSpec(std::string("sim:") + bad);
+        REQUIRE(spec.ok());
+        auto c = parseSimOptions(spec->options);
+        REQUIRE(!c.ok());
+        REQUIRE(c.error().kind == ErrorKind::Usage);
+        const std::string option(bad);
+        REQUIRE_THAT(c.error().message, Catch::Contains(option));
+    }
+    // The largest seed is read exactly, not rounded to a double.
+    auto spec = parseSourceSpec("sim:seed=18446744073709551615");
+    REQUIRE(spec.ok());
+    auto c = parseSimOptions(spec->options);
+    REQUIRE(c.ok());
+    REQUIRE(c->seed == UINT64_MAX);
+}
