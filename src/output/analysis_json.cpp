@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The `infocus analyze` JSONL record (docs/design.md, analyze JSONL): writing and reading it back.
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
@@ -26,11 +27,14 @@ std::string toJsonLine(const FrameAnalysis& a) {
     Json j;
     j["frame"] = a.frame;
     j["timestamp_ns"] = a.timestampNs;
-    if (a.lens) {
+    // A position that is not a number is not known: JSON has no NaN, and an object holding null
+    // would be refused when the line is read back.
+    if (a.lens && std::isfinite(a.lens->value)) {
         Json lens;
         lens["value"] = a.lens->value;
         lens["unit"] = a.lens->unit;
-        if (a.lens->dioptres) lens["dioptres"] = *a.lens->dioptres;
+        if (a.lens->dioptres && std::isfinite(*a.lens->dioptres))
+            lens["dioptres"] = *a.lens->dioptres;
         j["lens_position"] = lens;
     } else {
         j["lens_position"] = nullptr;

@@ -38,7 +38,7 @@ std::string liveStateJson(const LiveState& s) {
     j["past_peak"] = s.pastPeak;
     j["blur_px"] = number(s.blurPx);
     j["blur_um"] = number(s.blurUm);
-    if (s.lens) {
+    if (s.lens && std::isfinite(s.lens->value)) {
         j["lens_position"] = {{"value", s.lens->value},
                               {"unit", s.lens->unit},
                               {"dioptres", number(s.lens->dioptres)}};

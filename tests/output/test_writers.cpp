@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -75,6 +76,23 @@ TEST_CASE("JSONL: blur not measured is null, and no lens position is null") {
     CHECK(sharp["blur_sigma_px"] == 0.5);
     CHECK(sharp["edge_width_px"] == 1.75);
     CHECK(sharp["confidence"] == 0.875);
+}
+
+TEST_CASE("JSONL: a lens position that is not a number is written as unknown") {
+    // A camera or a damaged recording may report NaN; JSON has no NaN, and an object with a null
+    // value would be refused when read back.
+    FrameAnalysis a = twoRegions();
+    a.lens = LensPosition{std::nan(""), "dioptre", std::nan("")};
+    const std::string line = toJsonLine(a);
+    CHECK(Json::parse(line)["lens_position"].is_null());
+    auto back = parseJsonLine(line);
+    REQUIRE(back);
+    CHECK_FALSE(back->lens);
+    // A finite position with an unknown dioptre value keeps the position and leaves dioptres out.
+    a.lens = LensPosition{512.0, "v4l2", std::numeric_limits<double>::infinity()};
+    const Json j = Json::parse(toJsonLine(a));
+    CHECK(j["lens_position"]["value"] == 512.0);
+    CHECK_FALSE(j["lens_position"].contains("dioptres"));
 }
 
 // The values are binary fractions: JSON keeps a double exactly, so they come back equal.
