@@ -75,13 +75,6 @@ int64_t monotonicNs() {
     return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) return 0.0;
-    const auto k = std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())));
-    std::nth_element(v.begin(), v.begin() + static_cast<ptrdiff_t>(k), v.end());
-    return v[k];
-}
-
 // A control waiting to run on the capture thread.
 struct Command {
     std::function<Status()> fn;
@@ -470,8 +463,8 @@ private:
             std::vector<double> latencies;
             for (const auto& p : published)
                 latencies.push_back(p.second);
-            s->latencyP50Ms = percentile(latencies, 0.5);
-            s->latencyP99Ms = percentile(latencies, 0.99);
+            s->latencyP50Ms = live_detail::quantile(latencies, 0.5);
+            s->latencyP99Ms = live_detail::quantile(latencies, 0.99);
             const double span =
                 std::chrono::duration<double>(now - published.front().first).count();
             s->fps = published.size() > 1 && span > 0 ? (published.size() - 1) / span : 0.0;

@@ -23,14 +23,14 @@ constexpr double kTrendOff = 0.4;
 constexpr double kTrendFloor = 0.005;
 constexpr size_t kNoiseWindow = 30;
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    const auto mid = v.begin() + static_cast<ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    return *mid;
-}
-
 }  // namespace
+
+double quantile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    const auto k = std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())));
+    std::nth_element(v.begin(), v.begin() + static_cast<ptrdiff_t>(k), v.end());
+    return v[k];
+}
 
 void Meter::add(double tS, double score) {
     if (!std::isfinite(score)) return;
@@ -39,7 +39,7 @@ void Meter::add(double tS, double score) {
         if (diffs_.size() > kNoiseWindow) diffs_.pop_front();
         // The median |difference| of two samples of white noise σ is 0.954 σ; a lens move is a
         // minority of the differences and barely moves the median.
-        noise_ = median({diffs_.begin(), diffs_.end()}) / 0.954;
+        noise_ = quantile({diffs_.begin(), diffs_.end()}, 0.5) / 0.954;
         fast_ += kFastAlpha * (score - fast_);
         slow_ += kSlowAlpha * (score - slow_);
     } else {

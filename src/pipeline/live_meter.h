@@ -11,6 +11,9 @@
 
 namespace infocus::live_detail {
 
+/// The @p q quantile (0–1) of @p v by selection (the element at index q·n, clamped); 0 for none.
+double quantile(std::vector<double> v, double q);
+
 /// Follows one score per analysed frame.
 class Meter {
 public:

@@ -7,6 +7,7 @@
 
 #include "infocus/dof.h"
 #include "infocus/plane_fit.h"
+#include "live_meter.h"
 
 namespace infocus::live_detail {
 
@@ -23,12 +24,6 @@ constexpr int kMinRegionsForPlane = 6;
 constexpr int kLivePlaneHypotheses = 400;
 // Wavelength for the diffraction floor: green, where a sensor's luma is most sensitive.
 constexpr double kWavelengthM = 550e-9;
-
-double median(std::vector<double> v) {
-    const auto mid = v.begin() + static_cast<ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    return *mid;
-}
 
 }  // namespace
 
@@ -54,7 +49,7 @@ void fillRegionsAndOptics(const FrameAnalysis& a, const LiveOptions& o,
     s.cols = cols;
     s.rows = rows;
     s.regionsWithBlur = static_cast<int>(blurs.size());
-    if (!blurs.empty()) s.blurPx = median(blurs);
+    if (!blurs.empty()) s.blurPx = quantile(blurs, 0.5);
 
     const LiveLens& L = o.lens;
     const auto pitch = L.pixelPitchM;
