@@ -18,6 +18,14 @@
 namespace infocus {
 
 /// Measurements of one region of one frame.
+/// Whether a region could be measured at all. A region too dark or too clipped for its noise and
+/// the format's range has no meaningful score or blur: outputs write them as null, and frame
+/// scores, sweeps, the live view and the report leave the region out.
+enum class RegionStatus { Ok, Dark, Clipped };
+
+/// "ok", "dark", "clipped".
+std::string_view regionStatusName(RegionStatus s);
+
 struct RegionResult {
     int col = 0;             ///< grid column (ROI index for explicit ROIs, whole frame: 0)
     int row = 0;             ///< grid row (0 for ROIs and the whole frame)
@@ -28,6 +36,8 @@ struct RegionResult {
     std::optional<double> blurWidthPx;   ///< disc-equivalent diameter (thin-lens ΔX_i), px
     double confidence = 0.0;             ///< 0–1 trust in the blur fields; 0 when they are null
     std::optional<double> haloFraction;  ///< BlurEstimate::haloFraction (not in the JSONL)
+    RegionStatus status = RegionStatus::Ok;  ///< Dark or Clipped: sharpness and blur mean nothing
+    std::string statusReason;  ///< why the region is not Ok, for people (empty when Ok)
 };
 
 /// Measurements of one frame.

@@ -163,6 +163,18 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
     return a;
 }
 
+std::string_view regionStatusName(RegionStatus s) {
+    switch (s) {
+        case RegionStatus::Dark:
+            return "dark";
+        case RegionStatus::Clipped:
+            return "clipped";
+        case RegionStatus::Ok:
+            break;
+    }
+    return "ok";
+}
+
 std::optional<double> sharpeningHalo(const std::vector<RegionResult>& regions) {
     std::vector<double> halos;
     for (const RegionResult& r : regions)
