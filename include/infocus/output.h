@@ -101,10 +101,11 @@ void writeDofText(std::ostream& out, const optics::DofResult& r, const optics::D
                   std::string_view cocSource, const std::optional<DofWanted>& wanted = {});
 
 /// The state as the JSON object of `live --ui json` and the web view's /state (one line, no
-/// newline): frame, fps, dropped, skipped, latency_p50_ms, latency_p99_ms, score, peak,
-/// percent_of_peak, trend, past_peak, blur_px, blur_um, lens_position, in_focus_distance_m,
-/// coc_px, diffraction_px, regions_in_coc, dof_near_m, dof_far_m, in_focus_line, tilt_deg,
-/// history, grid and regions. Unknown values are null; an infinite distance is the string "inf".
+/// newline): frame, source, sequence, live_camera, fps, dropped, skipped, latency_p50_ms,
+/// latency_p99_ms, score, peak, percent_of_peak, trend, past_peak, blur_px, blur_um,
+/// lens_position, in_focus_distance_m, has_focus_control, focus_range, coc_px, diffraction_px,
+/// regions_in_coc, dof_near_m, dof_far_m, in_focus_line, tilt_deg, history, grid, regions,
+/// peaking, roi, magnifier and preview. Unknown values are null; an infinite distance is "inf".
 std::string liveStateJson(const LiveState& s);
 
 }  // namespace infocus

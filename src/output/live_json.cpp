@@ -22,6 +22,9 @@ Json number(const std::optional<double>& v) {
 std::string liveStateJson(const LiveState& s) {
     Json j;
     j["frame"] = s.frame;
+    j["source"] = s.source;
+    j["sequence"] = s.sequence;
+    j["live_camera"] = s.liveCamera;
     j["elapsed_s"] = s.elapsedS;
     j["width"] = s.width;
     j["height"] = s.height;
@@ -47,6 +50,14 @@ std::string liveStateJson(const LiveState& s) {
     }
     j["in_focus_distance_m"] = number(s.inFocusDistanceM);
     j["autofocus_running"] = s.autofocusRunning;
+    j["has_focus_control"] = s.hasFocusControl;
+    if (s.focusRange)
+        j["focus_range"] = {{"min", s.focusRange->min},
+                            {"max", s.focusRange->max},
+                            {"step", s.focusRange->step},
+                            {"unit", s.focusRange->unit}};
+    else
+        j["focus_range"] = nullptr;
     j["coc_px"] = s.cocPx;
     j["coc_from_lens"] = s.cocFromLens;
     j["diffraction_px"] = number(s.diffractionPx);
@@ -55,8 +66,10 @@ std::string liveStateJson(const LiveState& s) {
     j["dof_near_m"] = number(s.dofNearM);
     j["dof_far_m"] = number(s.dofFarM);
     if (s.inFocusLine)
-        j["in_focus_line"] = {s.inFocusLine->x0, s.inFocusLine->y0, s.inFocusLine->x1,
-                              s.inFocusLine->y1};
+        j["in_focus_line"] = {{"x0", s.inFocusLine->x0},
+                              {"y0", s.inFocusLine->y0},
+                              {"x1", s.inFocusLine->x1},
+                              {"y1", s.inFocusLine->y1}};
     else
         j["in_focus_line"] = nullptr;
     j["tilt_deg"] = number(s.tiltDeg);
@@ -80,6 +93,18 @@ std::string liveStateJson(const LiveState& s) {
                            {"blur_px", number(r.blurPx)},
                            {"confidence", r.confidence}});
     j["regions"] = std::move(regions);
+    j["peaking"] = std::string(peakingModeName(s.peaking));
+    j["roi"] = s.scoreRoi ? Json{s.scoreRoi->x, s.scoreRoi->y, s.scoreRoi->w, s.scoreRoi->h}
+                          : Json(nullptr);
+    if (s.magnifier)
+        j["magnifier"] = {
+            {"x", s.magnifier->x}, {"y", s.magnifier->y}, {"zoom", s.magnifier->zoom}};
+    else
+        j["magnifier"] = nullptr;
+    if (s.preview)
+        j["preview"] = {{"width", s.preview->width()}, {"height", s.preview->height()}};
+    else
+        j["preview"] = nullptr;
     return j.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 

@@ -176,3 +176,42 @@ TEST_CASE("distances for people") {
     CHECK(formatSensorLength(30e-6) == "30.0 µm");
     CHECK(formatSensorLength(1.4e-3) == "1.40 mm");
 }
+
+TEST_CASE("live JSON: the web view's fields, null where a state has none") {
+    LiveState s;
+    s.frame = 12;
+    s.sequence = 40;
+    s.width = 1920;
+    s.height = 1080;
+    s.source = "sim:";
+    s.liveCamera = true;
+    s.metric = "teng";
+    Json bare = Json::parse(liveStateJson(s));
+    CHECK(bare["source"] == "sim:");
+    CHECK(bare["sequence"] == 40);
+    CHECK(bare["live_camera"] == true);
+    CHECK(bare["has_focus_control"] == false);
+    CHECK(bare["focus_range"].is_null());
+    CHECK(bare["peaking"] == "off");
+    CHECK(bare["roi"].is_null());
+    CHECK(bare["magnifier"].is_null());
+    CHECK(bare["preview"].is_null());
+    CHECK(bare["in_focus_line"].is_null());
+
+    s.hasFocusControl = true;
+    s.focusRange = FocusRange{0.0, 10.0, 0.0, 1.0, "dioptre"};
+    s.peaking = PeakingMode::Percentile;
+    s.scoreRoi = Rect{600, 300, 200, 100};
+    s.magnifier = Magnifier{960, 540, 2, Image<uint8_t>(128, 128), Rect{928, 508, 64, 64}};
+    s.preview = std::make_shared<const Image<uint8_t>>(960, 540);
+    s.inFocusLine = optics::ImageSegment{0.0, 10.5, 1919.0, 20.25};
+    Json full = Json::parse(liveStateJson(s));
+    CHECK(full["has_focus_control"] == true);
+    CHECK(full["focus_range"] ==
+          Json({{"min", 0.0}, {"max", 10.0}, {"step", 0.0}, {"unit", "dioptre"}}));
+    CHECK(full["peaking"] == "percentile");
+    CHECK(full["roi"] == Json({600, 300, 200, 100}));
+    CHECK(full["magnifier"] == Json({{"x", 960}, {"y", 540}, {"zoom", 2}}));
+    CHECK(full["preview"] == Json({{"width", 960}, {"height", 540}}));
+    CHECK(full["in_focus_line"]["y1"].get<double>() == Approx(20.25).margin(1e-12));
+}
