@@ -1,0 +1,395 @@
+// SPDX-License-Identifier: MIT
+// The web view's HTTP server (cpp-httplib): routes, the token, bounds on clients and bodies, and
+// the streams. What each path answers is in docs/live.md ("Web view").
+#include "src/live/web/web.h"
+
+#include <arpa/inet.h>
+#include <ifaddrs.h>
+#include <netinet/in.h>
+#include <sys/random.h>
+
+#include <httplib.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <random>
+#include <thread>
+
+#include "infocus/output.h"
+#include "src/live/web/page_assets.h"
+#include "src/live/web/web_control.h"
+#include "src/live/web/web_encode.h"
+#include "src/live/web/web_hub.h"
+
+namespace infocus {
+
+namespace {
+
+using namespace std::chrono_literals;
+using web::errorJson;
+
+constexpr const char* kJson = "application/json";
+constexpr const char* kBoundary = "infocusframe";
+// How often a waiting stream looks at its socket and at stop(): the bound on a clean stop.
+constexpr auto kPoll = 100ms;
+constexpr auto kPingInterval = 10s;
+
+// 128 random bits as hex, from the kernel (getrandom), else std::random_device.
+std::string makeToken() {
+    unsigned char bytes[16];
+    if (getrandom(bytes, sizeof bytes, 0) != static_cast<ssize_t>(sizeof bytes)) {
+        std::random_device rd;
+        for (unsigned char& b : bytes)
+            b = static_cast<unsigned char>(rd());
+    }
+    std::string hex;
+    char two[3];
+    for (unsigned char b : bytes) {
+        std::snprintf(two, sizeof two, "%02x", b);
+        hex += two;
+    }
+    return hex;
+}
+
+// Compares in time independent of where the strings differ.
+bool sameToken(std::string_view a, std::string_view b) {
+    unsigned diff = a.size() != b.size();
+    for (size_t i = 0; i < a.size() && i < b.size(); ++i)
+        diff |= static_cast<unsigned>(a[i] ^ b[i]);
+    return diff == 0;
+}
+
+// The first non-loopback IPv4 address of this machine, for the URL of a wildcard listener.
+std::string firstOutsideAddress() {
+    ifaddrs* list = nullptr;
+    std::string found = "127.0.0.1";
+    if (getifaddrs(&list) != 0) return found;
+    for (ifaddrs* a = list; a; a = a->ifa_next) {
+        if (!a->ifa_addr || a->ifa_addr->sa_family != AF_INET) continue;
+        const auto* in = reinterpret_cast<const sockaddr_in*>(a->ifa_addr);
+        if ((ntohl(in->sin_addr.s_addr) >> 24) == 127) continue;
+        char buf[INET_ADDRSTRLEN];
+        if (inet_ntop(AF_INET, &in->sin_addr, buf, sizeof buf)) {
+            found = buf;
+            break;
+        }
+    }
+    freeifaddrs(list);
+    return found;
+}
+
+// The host part of a Host header, without port and brackets.
+std::string hostOf(const std::string& header) {
+    if (!header.empty() && header[0] == '[') return header.substr(1, header.find(']') - 1);
+    return header.substr(0, header.find(':'));
+}
+
+class WebServerImpl final : public WebServer {
+public:
+    WebServerImpl(LivePipeline& pipeline, const WebOptions& options, ListenAddress address)
+        : pipeline_(pipeline),
+          options_(options),
+          address_(std::move(address)),
+          hub_(pipeline, options.jpegQuality) {
+        if (options.token && !options.token->empty())
+            token_ = *options.token;
+        else if (!address_.loopback)
+            token_ = makeToken();
+    }
+
+    ~WebServerImpl() override { stop(); }
+
+    Status listen() {
+        // Every stream and event client holds a thread; a few more keep /state and the page
+        // answering while all stream slots are taken.
+        const size_t threads =
+            static_cast<size_t>(options_.maxStreams + options_.maxEventClients + 8);
+        server_.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+        server_.set_payload_max_length(options_.maxBodyBytes);
+        server_.set_read_timeout(2, 0);
+        server_.set_write_timeout(2, 0);
+        // An idle kept-alive connection holds a thread; a short wait keeps stop() prompt.
+        server_.set_keep_alive_timeout(1);
+        server_.set_pre_routing_handler(
+            [this](const httplib::Request& req, httplib::Response& res) { return gate(req, res); });
+        server_.set_error_handler(httplib::Server::HandlerWithResponse(
+            [](const httplib::Request&, httplib::Response& res) {
+                if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+                const char* what = res.status == 404   ? "no such path"
+                                   : res.status == 413 ? "the request body is over the limit"
+                                                       : "bad request";
+                res.set_content(errorJson(what), kJson);
+                return httplib::Server::HandlerResponse::Handled;
+            }));
+        routes();
+
+        errno = 0;
+        if (address_.port == 0) {
+            const int port = server_.bind_to_any_port(address_.host);
+            if (port > 0) port_ = port;
+        } else if (server_.bind_to_port(address_.host, address_.port)) {
+            port_ = address_.port;
+        }
+        if (port_ <= 0) {
+            const int err = errno;
+            return makeError(ErrorKind::Io,
+                             "cannot listen on " + options_.listen + ": " +
+                                 (err ? std::strerror(err) : "the address cannot be bound") +
+                                 "; use --listen with another port (e.g. --listen 127.0.0.1:8081) "
+                                 "or an address of this machine",
+                             err);
+        }
+        listener_ = std::thread([this] { server_.listen_after_bind(); });
+        return {};
+    }
+
+    void stop() override {
+        hub_.stop();
+        if (server_.is_running() || listener_.joinable()) server_.stop();
+        if (listener_.joinable()) listener_.join();
+    }
+
+    std::string url() const override {
+        std::string host = address_.host;
+        if (host == "0.0.0.0" || host == "::") host = firstOutsideAddress();
+        if (host.find(':') != std::string::npos) host = "[" + host + "]";
+        std::string u = "http://" + host + ":" + std::to_string(port_) + "/";
+        if (!token_.empty()) u += "?token=" + token_;
+        return u;
+    }
+
+    int port() const override { return port_; }
+    std::string token() const override { return token_; }
+
+private:
+    using HR = httplib::Server::HandlerResponse;
+
+    // Before any route: the token, the Host of a token-less loopback server, the method.
+    HR gate(const httplib::Request& req, httplib::Response& res) {
+        res.set_header("Cache-Control", "no-store");
+        if (!token_.empty()) {
+            std::string given = req.get_param_value("token");
+            const std::string auth = req.get_header_value("Authorization");
+            if (given.empty() && auth.rfind("Bearer ", 0) == 0) given = auth.substr(7);
+            if (!sameToken(given, token_)) {
+                res.status = 401;
+                res.set_content(errorJson("a missing or wrong token; open the URL infocus live "
+                                          "printed, with its ?token="),
+                                kJson);
+                return HR::Handled;
+            }
+        } else {
+            // Without a token only a loopback name may be asked for, so a page from elsewhere
+            // cannot reach this server through a name it rebinds to 127.0.0.1.
+            const std::string host = hostOf(req.get_header_value("Host"));
+            if (host != "127.0.0.1" && host != "localhost" && host != "::1" &&
+                host != address_.host) {
+                res.status = 403;
+                res.set_content(errorJson("Host " + host + " is not this loopback server"), kJson);
+                return HR::Handled;
+            }
+        }
+        const auto known = methods_.find(req.path);
+        if (known == methods_.end()) return HR::Unhandled;  // 404 by the router
+        const std::string& allowed = known->second;
+        const bool ok = req.method == allowed || (allowed == "GET" && req.method == "HEAD");
+        if (!ok) {
+            res.status = 405;
+            res.set_header("Allow", allowed);
+            res.set_content(
+                errorJson(req.method + " is not allowed on " + req.path + "; use " + allowed),
+                kJson);
+            return HR::Handled;
+        }
+        return HR::Unhandled;
+    }
+
+    void routes() {
+        for (const web::PageAsset& a : web::pageAssets()) {
+            methods_[a.path] = "GET";
+            server_.Get(a.path, [a](const httplib::Request&, httplib::Response& res) {
+                res.set_content(reinterpret_cast<const char*>(a.data), a.size, a.contentType);
+            });
+        }
+        for (const char* p :
+             {"/state", "/events", "/stream.mjpg", "/peaking.png", "/magnifier.jpg"})
+            methods_[p] = "GET";
+        methods_["/control"] = "POST";
+
+        server_.Get("/state", [this](const httplib::Request&, httplib::Response& res) {
+            auto s = pipeline_.state();
+            if (!s) return noFrame(res);
+            res.set_content(liveStateJson(*s), kJson);
+        });
+        server_.Get("/peaking.png", [this](const httplib::Request&, httplib::Response& res) {
+            auto s = pipeline_.state();
+            if (!s) return noFrame(res);
+            if (s->peaking == PeakingMode::Off || !s->peakingMask)
+                return fail(res, 404, "peaking is off; POST {\"peaking\": \"percentile\"}");
+            auto png = web::encodeMaskPng(*s->peakingMask);
+            if (!png) return fail(res, 500, png.error().message);
+            res.set_header("X-Frame", std::to_string(s->frame));
+            res.set_content(*png, "image/png");
+        });
+        server_.Get("/magnifier.jpg", [this](const httplib::Request&, httplib::Response& res) {
+            auto s = pipeline_.state();
+            if (!s) return noFrame(res);
+            if (!s->magnifier)
+                return fail(res, 404, "no magnifier placed; POST {\"magnifier\": [x, y, zoom]}");
+            auto jpeg = web::encodeGreyJpeg(s->magnifier->crop, options_.jpegQuality);
+            if (!jpeg) return fail(res, 500, jpeg.error().message);
+            res.set_header("X-Frame", std::to_string(s->frame));
+            res.set_content(*jpeg, "image/jpeg");
+        });
+        server_.Post("/control", [this](const httplib::Request& req, httplib::Response& res) {
+            const std::string type = req.get_header_value("Content-Type");
+            // A JSON type makes a browser ask first (CORS preflight) before another site's page
+            // could post here; a form's type could not.
+            if (type.rfind(kJson, 0) != 0)
+                return fail(res, 415, "send the command with Content-Type: application/json");
+            auto s = pipeline_.state();
+            const bool motor = !s || s->hasFocusControl;  // before a state, the pipeline decides
+            const web::ControlReply r = web::runControl(req.body, pipeline_, motor);
+            res.status = r.httpStatus;
+            res.set_content(r.body, kJson);
+        });
+        server_.Get("/stream.mjpg",
+                    [this](const httplib::Request&, httplib::Response& res) { stream(res); });
+        server_.Get("/events",
+                    [this](const httplib::Request&, httplib::Response& res) { events(res); });
+    }
+
+    static void fail(httplib::Response& res, int status, const std::string& message) {
+        res.status = status;
+        res.set_content(errorJson(message), kJson);
+    }
+    static void noFrame(httplib::Response& res) { fail(res, 503, "no frame analysed yet"); }
+
+    // Takes a client slot of @p count below @p limit; false when all are taken.
+    static bool takeSlot(std::atomic<int>& count, int limit) {
+        if (count.fetch_add(1) < limit) return true;
+        count.fetch_sub(1);
+        return false;
+    }
+
+    void stream(httplib::Response& res) {
+        if (!takeSlot(hub_.streamClients, options_.maxStreams))
+            return fail(res, 503,
+                        "all " + std::to_string(options_.maxStreams) +
+                            " stream slots are in use; close another view");
+        auto last = std::make_shared<std::optional<uint64_t>>();
+        res.set_content_provider(
+            std::string("multipart/x-mixed-replace; boundary=") + kBoundary,
+            [this, last](size_t, httplib::DataSink& sink) {
+                auto snap = hub_.waitNewer(std::nullopt, *last, true, kPoll);
+                if (hub_.stopping()) return false;
+                if (!snap) return sink.is_writable();
+                const web::EncodedFrame& f = *snap->jpeg;
+                *last = f.frame;
+                const std::string head = std::string("--") + kBoundary +
+                                         "\r\nContent-Type: image/jpeg\r\nContent-Length: " +
+                                         std::to_string(f.jpeg.size()) +
+                                         "\r\nX-Frame: " + std::to_string(f.frame) + "\r\n\r\n";
+                return sink.write(head.data(), head.size()) &&
+                       sink.write(f.jpeg.data(), f.jpeg.size()) && sink.write("\r\n", 2);
+            },
+            [this](bool) { hub_.streamClients.fetch_sub(1); });
+    }
+
+    void events(httplib::Response& res) {
+        if (!takeSlot(hub_.eventClients, options_.maxEventClients))
+            return fail(res, 503,
+                        "all " + std::to_string(options_.maxEventClients) +
+                            " event slots are in use; close another view");
+        struct Client {
+            std::optional<uint64_t> last;
+            std::chrono::steady_clock::time_point sent{}, wrote = std::chrono::steady_clock::now();
+        };
+        auto c = std::make_shared<Client>();
+        const auto interval = std::chrono::duration_cast<std::chrono::milliseconds>(
+            std::chrono::duration<double>(1.0 / options_.maxEventsPerS));
+        res.set_content_provider(
+            "text/event-stream",
+            [this, c, interval](size_t, httplib::DataSink& sink) {
+                using Clock = std::chrono::steady_clock;
+                // At most maxEventsPerS: wait out the interval, then send the newest state.
+                const auto due = c->sent + interval;
+                if (const auto now = Clock::now(); now < due)
+                    hub_.sleepFor(std::chrono::duration_cast<std::chrono::milliseconds>(due - now));
+                auto snap = hub_.waitNewer(c->last, std::nullopt, false, kPoll);
+                if (hub_.stopping()) return false;
+                const auto now = Clock::now();
+                if (!snap) {
+                    if (now - c->wrote < kPingInterval) return sink.is_writable();
+                    c->wrote = now;
+                    return sink.write(": ping\n\n", 9);
+                }
+                c->last = snap->state->frame;
+                c->sent = c->wrote = now;
+                const std::string event =
+                    "id: " + std::to_string(snap->state->frame) +
+                    "\ndata: " + (snap->json ? *snap->json : liveStateJson(*snap->state)) + "\n\n";
+                return sink.write(event.data(), event.size());
+            },
+            [this](bool) { hub_.eventClients.fetch_sub(1); });
+    }
+
+    LivePipeline& pipeline_;
+    const WebOptions options_;
+    const ListenAddress address_;
+    std::string token_;
+    int port_ = 0;
+    web::FrameHub hub_;
+    std::map<std::string, std::string> methods_;  ///< known path → its method
+    httplib::Server server_;
+    std::thread listener_;
+};
+
+}  // namespace
+
+Result<ListenAddress> parseListenAddress(std::string_view text) {
+    const auto usage = [&](const std::string& why) {
+        return makeError(ErrorKind::Usage, "--listen " + std::string(text) + ": " + why +
+                                               "; give ADDR:PORT, e.g. --listen 127.0.0.1:8080 "
+                                               "or --listen 0.0.0.0:8080");
+    };
+    const size_t colon = text.rfind(':');
+    if (colon == std::string_view::npos || colon + 1 == text.size()) return usage("no port");
+    std::string host(text.substr(0, colon));
+    const std::string portText(text.substr(colon + 1));
+    if (portText.size() > 5 || portText.find_first_not_of("0123456789") != std::string::npos)
+        return usage("the port is not a number from 0 to 65535");
+    const int port = std::stoi(portText);
+    if (port > 65535) return usage("the port is not a number from 0 to 65535");
+    ListenAddress a;
+    a.port = port;
+    if (host.size() >= 2 && host.front() == '[' && host.back() == ']') {
+        host = host.substr(1, host.size() - 2);
+        in6_addr v6{};
+        if (inet_pton(AF_INET6, host.c_str(), &v6) != 1) return usage("not an IPv6 address");
+        a.loopback = IN6_IS_ADDR_LOOPBACK(&v6);
+    } else if (host == "localhost") {
+        host = "127.0.0.1";
+        a.loopback = true;
+    } else {
+        in_addr v4{};
+        if (inet_pton(AF_INET, host.c_str(), &v4) != 1)
+            return usage("\"" + host + "\" is not an IPv4 address");
+        a.loopback = (ntohl(v4.s_addr) >> 24) == 127;
+    }
+    a.host = host;
+    return a;
+}
+
+Result<std::unique_ptr<WebServer>> WebServer::start(LivePipeline& pipeline,
+                                                    const WebOptions& options) {
+    auto address = parseListenAddress(options.listen);
+    if (!address) return address.error();
+    auto server = std::make_unique<WebServerImpl>(pipeline, options, *address);
+    if (Status st = server->listen(); !st) return st.error();
+    return std::unique_ptr<WebServer>(std::move(server));
+}
+
+}  // namespace infocus
