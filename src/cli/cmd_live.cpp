@@ -1,15 +1,18 @@
 // SPDX-License-Identifier: MIT
 // `infocus live`: the live focus assistant. Opens the live pipeline and hands it to the faces the
-// user chose (the terminal meter, a line of text or a JSON object a second).
+// user chose (the terminal meter, a line of text or a JSON object a second, the web view).
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <sstream>
+#include <thread>
 
 #include "commands.h"
 #include "infocus/devices.h"
@@ -21,6 +24,9 @@
 #include "parse.h"
 #if HAVE_TUI
 #include "src/live/tui/tui.h"
+#endif
+#if HAVE_WEB
+#include "src/live/web/web.h"
 #endif
 
 namespace infocus::cli {
@@ -41,8 +47,54 @@ struct LiveArgs {
     bool centreWeighted = false;
     std::optional<double> seconds;
     uint64_t frames = 0;
+    std::string listen = "127.0.0.1:8080";
+    std::string token;
     LensOptions lens;
 };
+
+// The faces of one run: at most one that holds the terminal or a window until the run ends
+// (tui, text, json), plus the web view beside it. Empty `blocking` with `web`: the web view alone.
+struct Faces {
+    std::string blocking;
+    bool web = false;
+};
+
+// Parses --ui's comma list; a usage message when it names no face, an unknown one or two
+// blocking ones.
+Result<Faces> parseFaces(const std::string& ui) {
+    Faces f;
+    std::stringstream list(ui);
+    std::string face;
+    const auto usage = [&](const std::string& why) {
+        return makeError(ErrorKind::Usage, "--ui " + ui + ": " + why +
+                                               "; use one of tui, text or json, and/or web, "
+                                               "e.g. --ui web or --ui tui,web");
+    };
+    while (std::getline(list, face, ',')) {
+        if (face == "web") {
+            f.web = true;
+        } else if (face == "tui" || face == "text" || face == "json") {
+            if (!f.blocking.empty()) return usage("at most one of tui, text and json");
+            f.blocking = face;
+        } else {
+            return usage("\"" + face + "\" is not a face");
+        }
+    }
+    if (f.blocking.empty() && !f.web) return usage("no face named");
+#if !HAVE_TUI
+    if (f.blocking == "tui")
+        return makeError(ErrorKind::Usage,
+                         "this infocus was built without the terminal face (ncurses); use --ui "
+                         "text or --ui json, or rebuild with libncurses-dev");
+#endif
+#if !HAVE_WEB
+    if (f.web)
+        return makeError(ErrorKind::Usage,
+                         "this infocus was built without the web view (cpp-httplib); rebuild "
+                         "with libcpp-httplib-dev");
+#endif
+    return f;
+}
 
 std::atomic<bool> gStop{false};
 
@@ -95,8 +147,9 @@ std::string textLine(const LiveState& s) {
     return line;
 }
 
-// The text and JSON faces: the newest state once a second until the run ends.
-int runPrinted(LivePipeline& p, const LiveArgs& args, bool json) {
+// The text and JSON faces: the newest state once a second until the run ends; with @p print
+// false (the web view alone) it only waits for the end.
+int runPrinted(LivePipeline& p, const LiveArgs& args, bool json, bool print = true) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     auto nextPrint = start + std::chrono::seconds(1);
@@ -108,7 +161,7 @@ int runPrinted(LivePipeline& p, const LiveArgs& args, bool json) {
         const bool framesDone = args.frames > 0 && last && *last + 1 >= args.frames;
         const bool timeDone =
             args.seconds && std::chrono::duration<double>(now - start).count() >= *args.seconds;
-        if (now >= nextPrint || framesDone) {
+        if (print && (now >= nextPrint || framesDone)) {
             if (auto newest = p.state()) {
                 std::cout << (json ? liveStateJson(*newest) : textLine(*newest)) << std::endl;
                 if (!std::cout)
@@ -118,6 +171,8 @@ int runPrinted(LivePipeline& p, const LiveArgs& args, bool json) {
         }
         if (framesDone || timeDone) break;
         if (!s && p.ended()) break;
+        // An ended pipeline answers at once: wait without spinning.
+        if (!s && !print) std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     return 0;
 }
@@ -151,21 +206,25 @@ int runLive(LiveArgs args) {
     o.lens.cocM = values->coc;
     o.lens.focusDistanceM = values->focusDistance;
 
-    std::string ui = args.ui;
-    if (ui.empty()) {
+    std::string uiList = args.ui;
+    if (uiList.empty()) {
 #if HAVE_TUI
-        ui = isatty(STDOUT_FILENO) && isatty(STDIN_FILENO) ? "tui" : "text";
+        uiList = isatty(STDOUT_FILENO) && isatty(STDIN_FILENO) ? "tui" : "text";
 #else
-        ui = "text";
+        uiList = "text";
 #endif
     }
-    if (ui != "text" && ui != "json" && ui != "tui")
-        return usageError(kName, "--ui " + ui + " is not a face; use tui, text or json");
-#if !HAVE_TUI
-    if (ui == "tui")
-        return usageError(kName,
-                          "this infocus was built without the terminal face (ncurses); "
-                          "use --ui text or --ui json, or rebuild with libncurses-dev");
+    auto faces = parseFaces(uiList);
+    if (!faces) return reportError(kName, faces.error());
+    const std::string ui = faces->blocking;
+#if HAVE_WEB
+    WebOptions wo;
+    wo.listen = args.listen;
+    if (!args.token.empty()) wo.token = args.token;
+    if (faces->web) {
+        if (auto a = parseListenAddress(args.listen); !a) return reportError(kName, a.error());
+        o.previewLongSide = std::max(o.previewLongSide, wo.previewLongSide);
+    }
 #endif
 
     const std::string source = args.source.empty() ? defaultSource() : args.source;
@@ -180,6 +239,18 @@ int runLive(LiveArgs args) {
     sigaction(SIGTERM, &sa, nullptr);
 
     if (Status st = p.start(); !st) return reportError(kName, st.error());
+#if HAVE_WEB
+    std::unique_ptr<WebServer> web;
+    if (faces->web) {
+        auto started = WebServer::start(p, wo);
+        if (!started) {
+            p.stop();
+            return reportError(kName, started.error());
+        }
+        web = std::move(*started);
+        std::cerr << "infocus live: open " << web->url() << std::endl;
+    }
+#endif
     int rc = 0;
 #if HAVE_TUI
     if (ui == "tui") {
@@ -192,6 +263,10 @@ int runLive(LiveArgs args) {
     }
 #endif
     if (ui == "text" || ui == "json") rc = runPrinted(p, args, ui == "json");
+    if (ui.empty()) rc = runPrinted(p, args, false, false);  // the web view alone
+#if HAVE_WEB
+    if (web) web->stop();
+#endif
     const bool ended = p.ended();
     const Status end = p.endStatus();
     p.stop();
@@ -210,8 +285,15 @@ Command addLiveCommand(CLI::App& app) {
     sub->add_option("SOURCE", args->source,
                     "A camera, recording, file or sim: (default: the first camera, else sim:)");
     sub->add_option("--ui", args->ui,
-                    "Face: tui (the terminal meter; the default on a terminal), text (a line a "
-                    "second; the default otherwise) or json (an object a second)");
+                    "Faces, a comma list: one of tui (the terminal meter; the default on a "
+                    "terminal), text (a line a second; the default otherwise) or json (an object "
+                    "a second), and/or web (the page at --listen)");
+    sub->add_option("--listen", args->listen,
+                    "The web view's ADDR:PORT (port 0: any free port); beyond loopback a token "
+                    "is required")
+        ->capture_default_str();
+    sub->add_option("--token", args->token,
+                    "The web view's token (default: generated when listening beyond loopback)");
     sub->add_option("--grid", args->grid, "Regions as columns x rows")->capture_default_str();
     sub->add_option("--roi", args->roi, "Score this region x,y,w,h instead of the whole frame");
     sub->add_option("--metric", args->metric, "Sharpness operator (default teng)");
@@ -234,7 +316,8 @@ Command addLiveCommand(CLI::App& app) {
         "Examples:\n"
         "  infocus live\n"
         "  infocus live sim:focal=16mm,fnumber=1.4,distance=1m,focus=0.5m --ui json --seconds 6\n"
-        "  infocus live /dev/video0 --lens rpi-cam3 --coc-px 2");
+        "  infocus live /dev/video0 --lens rpi-cam3 --coc-px 2\n"
+        "  infocus live /dev/video0 --ui web --listen 0.0.0.0:8080");
     return {sub, [args] { return runLive(*args); }};
 }
 
