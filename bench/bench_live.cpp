@@ -1,24 +1,35 @@
 // SPDX-License-Identifier: MIT
 // The live pipeline end to end: a recording replayed at its own pace (`DIR,pace=original,loop=1`)
 // through LivePipeline as `infocus live` runs it, beside the same pipeline with an OpenCV
-// composition in place of infocus's measurement (LiveOptions::measureOverride).
+// composition in place of infocus's measurement (LiveOptions::measureOverride); and the web
+// view's cost: the same pipeline with 4 in-process clients of /stream.mjpg and /events.
 #include <stdlib.h>
 #include <sys/resource.h>
+#include <time.h>
 #include <turbojpeg.h>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <thread>
 
 #include "bench/bench.h"
 #include "infocus/frame.h"
 #include "infocus/live.h"
 #include "infocus/recording.h"
 #include "infocus/synth.h"
+#include "infocus_config.h"
+#if HAVE_WEB
+#include <httplib.h>
+
+#include "src/live/web/web.h"
+#include "src/live/web/web_encode.h"
+#endif
 
 namespace infocus::bench {
 
@@ -172,12 +183,19 @@ MeasureFn opencvMeasure() {
     };
 }
 
+// What runs beside the pipeline during a run: started once the pipeline is, stopped before it.
+struct RunBeside {
+    std::function<Status(LivePipeline&)> start;
+    std::function<void()> stop;
+};
+
 // Replays @p dir through the live pipeline for @p seconds and watches every state.
-Result<LiveRun> runLive(const std::string& dir, double seconds, MeasureFn measure) {
+Result<LiveRun> runLive(const std::string& dir, double seconds, MeasureFn measure,
+                        int previewLongSide = kPreviewLongSide, const RunBeside& beside = {}) {
     LiveOptions options;
     options.peaking = PeakingMode::Percentile;
     options.peakingPercentile = kPeakingPercentile;
-    options.previewLongSide = kPreviewLongSide;
+    options.previewLongSide = previewLongSide;
     options.measureOverride = std::move(measure);
     auto pipeline = LivePipeline::open(dir + ",pace=original,loop=1", options);
     if (!pipeline) return pipeline.error();
@@ -188,6 +206,11 @@ Result<LiveRun> runLive(const std::string& dir, double seconds, MeasureFn measur
     // the first's), and a camera would have captured it then.
     const auto t0 = Clock::now();
     if (Status st = p.start(); !st) return st.error();
+    if (beside.start)
+        if (Status st = beside.start(p); !st) {
+            p.stop();
+            return st.error();
+        }
     std::vector<double> latencies;
     std::shared_ptr<const LiveState> last;
     // A short run on a busy machine still waits for a few states, within a bound.
@@ -209,6 +232,7 @@ Result<LiveRun> runLive(const std::string& dir, double seconds, MeasureFn measur
         last = std::move(s);
     }
     const auto tEnd = Clock::now();
+    if (beside.stop) beside.stop();
     p.stop();
     const auto t1 = Clock::now();
     const double cpu1 = cpuSeconds();
@@ -225,6 +249,173 @@ Result<LiveRun> runLive(const std::string& dir, double seconds, MeasureFn measur
     run.latencyP99Ms = percentile(latencies, 0.99);
     run.cpuCores = (cpu1 - cpu0) / std::chrono::duration<double>(t1 - t0).count();
     return run;
+}
+
+double threadCpuS() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) * 1e-9;
+}
+
+#if HAVE_WEB
+// In-process clients of the web view: each reads /stream.mjpg and /events for the whole run and
+// counts what arrives (parts by their X-Frame header, events by their id line).
+class WebClients {
+public:
+    Status start(LivePipeline& p, int clients) {
+        WebOptions o;
+        o.listen = "127.0.0.1:0";
+        auto server = WebServer::start(p, o);
+        if (!server) return server.error();
+        server_ = std::move(*server);
+        counts_ = std::vector<Count>(static_cast<size_t>(2 * clients));
+        t0_ = Clock::now();
+        for (int i = 0; i < 2 * clients; ++i)
+            threads_.emplace_back([this, i] {
+                const bool stream = i % 2 == 0;
+                read(stream ? "/stream.mjpg" : "/events",
+                     stream ? "X-Frame: " : "id: ", counts_[static_cast<size_t>(i)]);
+            });
+        return {};
+    }
+
+    void stop() {
+        done_.store(true);
+        for (std::thread& t : threads_)
+            t.join();
+        seconds_ = std::chrono::duration<double>(Clock::now() - t0_).count();
+        server_->stop();
+    }
+
+    // Per-client rates over the run: stream parts a second, events a second, all bytes as Mbit/s.
+    std::vector<double> streamFps() const { return rates(0); }
+    std::vector<double> eventsPerS() const { return rates(1); }
+    double mbitPerS() const {
+        uint64_t bytes = 0;
+        for (const Count& c : counts_)
+            bytes += c.bytes;
+        return seconds_ > 0 ? static_cast<double>(bytes) * 8e-6 / seconds_ : 0.0;
+    }
+
+private:
+    struct Count {
+        uint64_t items = 0, bytes = 0;
+    };
+
+    void read(const char* path, const std::string& marker, Count& count) {
+        httplib::Client client("127.0.0.1", server_->port());
+        client.set_read_timeout(5, 0);
+        std::string tail;  // a marker may straddle two reads
+        client.Get(path, [&](const char* data, size_t length) {
+            count.bytes += length;
+            std::string text = tail + std::string(data, length);
+            for (size_t at = text.find(marker); at != std::string::npos;
+                 at = text.find(marker, at + marker.size()))
+                ++count.items;
+            tail = text.substr(text.size() - std::min(text.size(), marker.size() - 1));
+            return !done_.load();
+        });
+    }
+
+    std::vector<double> rates(size_t first) const {
+        std::vector<double> r;
+        for (size_t i = first; i < counts_.size(); i += 2)
+            r.push_back(seconds_ > 0 ? static_cast<double>(counts_[i].items) / seconds_ : 0.0);
+        return r;
+    }
+
+    std::unique_ptr<WebServer> server_;
+    std::vector<Count> counts_;
+    std::vector<std::thread> threads_;
+    std::atomic<bool> done_{false};
+    Clock::time_point t0_;
+    double seconds_ = 0.0;
+};
+#endif
+
+// The web view's row: a 1080p30 recording at its pace, without clients and then with 4 clients
+// of /stream.mjpg and /events, and the preview's JPEG encode cost at 960x540 (ms is that encode).
+void benchLiveWeb(const BenchOptions& options, const RowSink& sink) {
+    const LiveCase c{1920, 1080, 30.0, PixelFormat::YUYV};
+    constexpr int kWebPreview = 960;
+    constexpr int kClients = 4;
+    BenchRow row{"live_web", c.width, c.height, 0.0, std::nullopt, "", ""};
+    char text[640];
+#if HAVE_WEB
+    // The encode: one core's CPU seconds per frame, times 30 frames a second.
+    const Image<uint8_t> preview = makeScene(kWebPreview, kWebPreview * 9 / 16);
+    int encoded = 0;
+    const double cpu0 = threadCpuS();
+    const auto w0 = Clock::now();
+    while (std::chrono::duration<double>(Clock::now() - w0).count() <
+               std::max(0.2, options.secondsPerCase) ||
+           encoded < 10) {
+        if (!web::encodeGreyJpeg(preview, WebOptions{}.jpegQuality)) break;
+        ++encoded;
+    }
+    const double encodeS = (threadCpuS() - cpu0) / std::max(1, encoded);
+    row.ms = encodeS * 1e3;
+
+    namespace fs = std::filesystem;
+    std::string tmpl = (fs::temp_directory_path() / "infocus-bench-web-XXXXXX").string();
+    if (!mkdtemp(tmpl.data())) {
+        row.note = "could not make a temporary directory in " + fs::temp_directory_path().string();
+        sink(row);
+        return;
+    }
+    const std::string rec = tmpl + "/rec";
+    std::string failed;
+    std::optional<LiveRun> quiet, loaded;
+    WebClients clients;
+    if (Status st = writeRecording(rec, c, options.liveSeconds); !st) {
+        failed = "recording: " + st.error().message;
+    } else {
+        auto q = runLive(rec, options.liveSeconds, {}, kWebPreview);
+        const RunBeside beside{[&](LivePipeline& p) { return clients.start(p, kClients); },
+                               [&] { clients.stop(); }};
+        auto l = runLive(rec, options.liveSeconds, {}, kWebPreview, beside);
+        if (q) quiet = *q;
+        if (l) loaded = *l;
+        if (!q) failed = q.error().message;
+        if (!l) failed = l.error().message;
+    }
+    std::error_code ec;
+    fs::remove_all(tmpl, ec);
+    if (!failed.empty() || !quiet || !loaded) {
+        row.note = "failed: " + failed;
+        sink(row);
+        return;
+    }
+    const auto list = [](const std::vector<double>& v) {
+        std::string out;
+        char one[16];
+        for (double x : v) {
+            std::snprintf(one, sizeof one, "%s%.1f", out.empty() ? "" : "/", x);
+            out += one;
+        }
+        return out;
+    };
+    std::snprintf(
+        text, sizeof text,
+        "ms: JPEG q80 of a %dx%d preview, %.3f core at 30 fps (target <= 0.25); 1080p30 YUYV "
+        "at its pace, %g s each, %d px preview: no clients %.1f fps, %llu dropped, %.2f cores; "
+        "%d clients of /stream.mjpg and /events %.1f fps, %llu dropped, %.2f cores, stream fps "
+        "%s, events/s %s, %.1f Mbit/s in all",
+        kWebPreview, kWebPreview * 9 / 16, encodeS * 30.0, options.liveSeconds, kWebPreview,
+        quiet->fps, static_cast<unsigned long long>(quiet->dropped), quiet->cpuCores, kClients,
+        loaded->fps, static_cast<unsigned long long>(loaded->dropped), loaded->cpuCores,
+        list(clients.streamFps()).c_str(), list(clients.eventsPerS()).c_str(), clients.mbitPerS());
+    row.note = text;
+    row.live = loaded;
+    row.liveBaseline = quiet;
+    sink(row);
+#else
+    // Without the web view there is no row: nothing of it can be measured.
+    (void)options;
+    (void)sink;
+    (void)row;
+    (void)text;
+#endif
 }
 
 }  // namespace
@@ -275,6 +466,7 @@ void benchLive(const BenchOptions& options, const RowSink& sink) {
         row.note = failed.empty() ? note : "failed: " + failed;
         sink(row);
     }
+    benchLiveWeb(options, sink);
 }
 
 }  // namespace infocus::bench
