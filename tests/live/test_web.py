@@ -193,15 +193,18 @@ def test_endpoints():
     c, r = open_stream(live, '/events')
     check(r.status == 200 and r.getheader('Content-Type', '').startswith('text/event-stream'),
           '/events: 200 text/event-stream')
-    ids, t0 = [], time.monotonic()
-    for _ in range(8):
+    ids = []
+    for _ in range(16):
         ident, data = read_event(r)
+        if not ids:
+            t0 = time.monotonic()  # the first event may have come with the headers
         ids.append(ident)
         check(json.loads(data)['frame'] == ident, '/events: data frame == id %d' % ident)
     rate = (len(ids) - 1) / (time.monotonic() - t0)
     c.close()
     check(all(b > a for a, b in zip(ids, ids[1:])), '/events: ids increase %s' % ids)
-    check(rate <= 31, '/events: at most 30 events a second (%.1f)' % rate)
+    # Tolerance: 1 event/s of delivery jitter over the half second measured.
+    check(rate <= 31, '/events: at most 30 events a second (%.1f, tolerance 1)' % rate)
 
     # /stream.mjpg: parts are JPEGs of the preview size whose X-Frame is a recent state's frame.
     c, r = open_stream(live)

@@ -308,7 +308,7 @@ private:
             std::chrono::steady_clock::time_point sent{}, wrote = std::chrono::steady_clock::now();
         };
         auto c = std::make_shared<Client>();
-        const auto interval = std::chrono::duration_cast<std::chrono::milliseconds>(
+        const auto interval = std::chrono::duration_cast<std::chrono::microseconds>(
             std::chrono::duration<double>(1.0 / options_.maxEventsPerS));
         res.set_content_provider(
             "text/event-stream",
@@ -317,7 +317,8 @@ private:
                 // At most maxEventsPerS: wait out the interval, then send the newest state.
                 const auto due = c->sent + interval;
                 if (const auto now = Clock::now(); now < due)
-                    hub_.sleepFor(std::chrono::duration_cast<std::chrono::milliseconds>(due - now));
+                    hub_.sleepFor(std::chrono::duration_cast<std::chrono::milliseconds>(due - now) +
+                                  std::chrono::milliseconds(1));
                 auto snap = hub_.waitNewer(c->last, std::nullopt, false, kPoll);
                 if (hub_.stopping()) return false;
                 const auto now = Clock::now();
