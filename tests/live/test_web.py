@@ -293,6 +293,14 @@ def test_endpoints():
     check(r9.status == 503 and b'error' in r9.read(), 'stream 9: 503 with an error (%d)' %
           r9.status)
     c9.close()
+    # And 16 event clients, the 17th 503.
+    for i in range(16):
+        c, r = open_stream(live, '/events')
+        streams.append(r)
+        check(r.status == 200, 'event client %d of 16: 200' % (i + 1))
+    c17, r17 = open_stream(live, '/events')
+    check(r17.status == 503 and b'error' in r17.read(), 'event client 17: 503 (%d)' % r17.status)
+    c17.close()
     t0 = time.monotonic()
     status = live.get('/state')[0]
     took = time.monotonic() - t0
@@ -308,7 +316,8 @@ def test_endpoints():
     t_stop = time.monotonic()
     rc, took = live.stop()
     latest = max((e[0] - t_stop) if e else 99 for e in readers)
-    check(latest <= 1.0, 'SIGINT closes every stream within 1 s (%.2f s)' % latest)
+    check(latest <= 1.0, 'SIGINT closes every stream and event client within 1 s (%.2f s)' %
+          latest)
     check(rc == 0 and took < 3.0, 'SIGINT: exit 0 in %.2f s (< 3 s, pipeline included)' % took)
 
 
