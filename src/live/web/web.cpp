@@ -142,6 +142,10 @@ public:
                              err);
         }
         listener_ = std::thread([this] { server_.listen_after_bind(); });
+        // stop() only reaches a server that is running: wait for it (a bound socket starts at
+        // once) so an early stop cannot leave the listener behind.
+        for (int i = 0; i < 2000 && !server_.is_running(); ++i)
+            std::this_thread::sleep_for(1ms);
         return {};
     }
 
