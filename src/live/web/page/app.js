@@ -211,7 +211,9 @@ function drawPreview() {
     g.strokeRect(s.roi[0] * k, s.roi[1] * k, s.roi[2] * k, s.roi[3] * k);
   }
   if (el.showLine.checked && s.in_focus_line) {
-    const l = s.in_focus_line;
+    // An object {x0, y0, x1, y1}; an array [x0, y0, x1, y1] is read the same way.
+    const a = s.in_focus_line;
+    const l = Array.isArray(a) ? { x0: a[0], y0: a[1], x1: a[2], y1: a[3] } : a;
     g.strokeStyle = "#4fe3ff";
     g.lineWidth = 3 * dpr;
     g.setLineDash([8 * dpr, 5 * dpr]);
