@@ -35,9 +35,12 @@ let events = null;
 let eventsLive = false;
 let streamLive = false;
 
+let everLive = false; // "connecting…" until both first answer, "reconnecting…" after a loss
+
 function setConnection() {
   const live = eventsLive && streamLive;
-  el.conn.textContent = live ? "live" : eventsLive || streamLive ? "partly live…" : "reconnecting…";
+  everLive = everLive || live;
+  el.conn.textContent = live ? "live" : everLive ? "reconnecting…" : "connecting…";
   el.conn.className = "conn " + (live ? "live" : "wait");
 }
 
