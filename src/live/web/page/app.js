@@ -162,7 +162,8 @@ function onJpeg(jpeg, frame) {
 function stateFor(frame) {
   if (states.has(frame)) return states.get(frame);
   let best = null;
-  for (const s of states.values()) if (s.frame <= frame && (!best || s.frame > best.frame)) best = s;
+  for (const s of states.values())
+    if (s.frame <= frame && (!best || s.frame > best.frame)) best = s;
   return best || latest;
 }
 
@@ -233,7 +234,9 @@ function drawPreview() {
 // the blur where the cell is wide enough for the digits.
 function drawHeat(g, s, k, dpr) {
   const coc = s.coc_px || 2;
-  g.font = `600 ${10 * dpr}px system-ui, sans-serif`;
+  // Digits grow with the cells (a coarse grid on a desktop), from 10 to 16 px.
+  const cell = s.regions && s.regions.length ? (s.regions[0].w * k) / dpr : 0;
+  g.font = `600 ${Math.min(16, Math.max(10, cell / 4)) * dpr}px system-ui, sans-serif`;
   g.textAlign = "center";
   g.textBaseline = "middle";
   for (const r of s.regions || []) {
@@ -367,7 +370,8 @@ async function send(cmd) {
 }
 
 for (const id of ["minus10", "minus1", "plus1", "plus10"])
-  $(id).addEventListener("click", (e) => send({ focus_step: Number(e.currentTarget.dataset.step) }));
+  $(id).addEventListener("click", (e) =>
+    send({ focus_step: Number(e.currentTarget.dataset.step) }));
 
 let sliding = false; // while a finger is on the slider, the state does not move it
 el.focus.addEventListener("input", () => { sliding = true; });
@@ -422,7 +426,7 @@ function updatePanel(s) {
   const lp = s.lens_position;
   if (lp && !sliding && Number.isFinite(lp.value)) el.focus.value = lp.value;
   el.position.textContent = !lp ? "–"
-    : lp.unit === "dioptre" ? `${fmtNumber(lp.value)} dpt` : `${fmtNumber(lp.value)} ${lp.unit || ""}`;
+    : `${fmtNumber(lp.value)} ${lp.unit === "dioptre" ? "dpt" : lp.unit || ""}`;
   el.focusAt.textContent = fmtDistance(s.in_focus_distance_m);
 
   if (document.activeElement !== el.grid && s.grid) el.grid.value = s.grid.join(",");
