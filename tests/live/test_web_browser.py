@@ -172,8 +172,12 @@ def page_proxy(page_dir, upstream):
             conn = http.client.HTTPConnection(up.hostname, up.port, timeout=600)
             headers = {k: v for k, v in self.headers.items()
                        if k.lower() in ("content-type", "authorization")}
-            conn.request(self.command, self.path, body, headers)
-            r = conn.getresponse()
+            try:
+                conn.request(self.command, self.path, body, headers)
+                r = conn.getresponse()
+            except OSError:  # the server is gone: say so as it would, without a traceback
+                self.send_error(502)
+                return
             self.send_response(r.status)
             for k, v in r.getheaders():
                 if k.lower() not in ("connection", "transfer-encoding", "keep-alive"):
@@ -278,8 +282,8 @@ def check_page(s, api, step_button, tap_at):
         scores.add(s.text("score"))
     check(len(scores) >= 2, f"{name}: the meter's score did not change while the lens moved "
           f"({sorted(scores)})")
-    print(f"{name}: lens {before['lens_position']['value']} → {after and after['lens_position']['value']}"
-          f", scores seen {sorted(scores)[:6]}")
+    moved_to = after and after["lens_position"]["value"]
+    print(f"{name}: lens {v0} → {moved_to}, scores seen {sorted(scores)[:6]}")
 
     # A tap on the preview: the magnifier goes there, in frame pixels, and the inset shows.
     canvas = s.d.find_element(By.ID, "preview")
