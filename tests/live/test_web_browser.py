@@ -377,7 +377,7 @@ def main():
                           and st, step=0.5)
         lens = done and done["lens_position"]["dioptres"]
         print(f"autofocus: {time.monotonic() - t0:.1f} s, lens {lens} dpt "
-              f"(want {SIM_FOCUS_DPT} ± {AF_TOLERANCE_DPT})")
+              f"(want {SIM_FOCUS_DPT} ± {AF_TOLERANCE_DPT}), status '{done and done['status']}'")
         check(done and abs(lens - SIM_FOCUS_DPT) <= AF_TOLERANCE_DPT,
               f"autofocus left the lens at {lens} dpt, not {SIM_FOCUS_DPT} ± {AF_TOLERANCE_DPT}")
         time.sleep(2)  # a few frames at the new position before the pictures
