@@ -7,7 +7,8 @@ shows a picture (the standard deviation of its pixels above 5 grey levels); the 
 changes while the lens moves (one click of a focus button gives the step, two more move the
 lens by three of them within 1e-6); a tap on the preview places the magnifier at the tapped frame
 coordinates (within 4 frame pixels, a little over one CSS pixel on the phone) and the inset shows
-its crop. Then Autofocus brings the lens to the sim's 1 m, i.e. 1.0 dpt within 0.02 dpt.
+its crop. Then, with the sound on (muted), Autofocus brings the lens to the sim's 1 m, i.e.
+1.0 dpt within 0.02 dpt.
 Screenshots (phone and desktop, before and after autofocus) are saved as PNGs in the directory
 printed at the end.
 
@@ -365,6 +366,12 @@ def main():
         check_page(desktop, api, "minus1", (0.62, 0.55))
         shots = [phone.shot(out, "before"), desktop.shot(out, "before")]
 
+        # The sound on through the sweep (muted), so its tone and chime run: an error in them
+        # would show in the console's log.
+        desktop.d.find_element(By.ID, "audio").click()
+        sound = wait_until(5, lambda: desktop.d.execute_script(
+            "return typeof audio === 'object' && audio && audio.ctx.state"))
+        check(sound == "running", f"the sound toggle did not start the audio ({sound})")
         # Autofocus: the button is disabled while it runs, and the lens ends at the sim's 1 m.
         desktop.d.find_element(By.ID, "af").click()
         t0 = time.monotonic()
