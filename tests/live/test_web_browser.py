@@ -2,6 +2,7 @@
 """The web view as a person uses it: `infocus live` on the simulated camera with `--ui web`,
 opened in a real headless Chromium at phone (360x640) and desktop (1280x800) sizes.
 
+The server wants a token (--token), so every request of the page must carry the one in its URL.
 Checks, at each size: the page loads with no console error (SEVERE log empty); the preview canvas
 shows a picture (the standard deviation of its pixels above 5 grey levels); the meter's score
 changes while the lens moves (one click of a focus button gives the step, two more move the
@@ -37,6 +38,7 @@ LENS_ARGS = ["--focal", "16mm", "-N", "1.4", "--pixel-pitch", "3um"]
 SIM_FOCUS_DPT = 1.0  # the sim's subject at 1 m
 AF_TOLERANCE_DPT = 0.02
 TAP_TOLERANCE_PX = 4
+TOKEN = "browser-test-token"
 
 
 def skip(reason):
@@ -91,7 +93,9 @@ class Server:
     """`infocus live --ui web` on the sim, its URL read from stderr."""
 
     def __init__(self, infocus):
-        cmd = [infocus, "live", SOURCE, "--ui", "web", "--listen", "127.0.0.1:0"] + LENS_ARGS
+        # A token even on loopback: every request the page makes must carry it, or gets 401.
+        cmd = [infocus, "live", SOURCE, "--ui", "web", "--listen", "127.0.0.1:0",
+               "--token", TOKEN] + LENS_ARGS
         self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                                      stderr=subprocess.PIPE, text=True)
         self.stderr = []
@@ -345,6 +349,7 @@ def main():
             return 1
         check(first.get("has_focus_control") is True, "the sim's lens is not motorised "
               "(has_focus_control is not true)")
+        check(api.token == TOKEN, f"the printed URL {url} does not carry the token")
         page_url = url
         if args.page_dir:
             page_url = page_proxy(args.page_dir, api.base) + (
