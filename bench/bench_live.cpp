@@ -251,13 +251,13 @@ Result<LiveRun> runLive(const std::string& dir, double seconds, MeasureFn measur
     return run;
 }
 
+#if HAVE_WEB
 double threadCpuS() {
     timespec t{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
     return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) * 1e-9;
 }
 
-#if HAVE_WEB
 // In-process clients of the web view: each reads /stream.mjpg and /events for the whole run and
 // counts what arrives (parts by their X-Frame header, events by their id line).
 class WebClients {
@@ -331,7 +331,6 @@ private:
     Clock::time_point t0_;
     double seconds_ = 0.0;
 };
-#endif
 
 // The web view's row: a 1080p30 recording at its pace, without clients and then with 4 clients
 // of /stream.mjpg and /events, and the preview's JPEG encode cost at 960x540 (ms is that encode).
@@ -341,7 +340,6 @@ void benchLiveWeb(const BenchOptions& options, const RowSink& sink) {
     constexpr int kClients = 4;
     BenchRow row{"live_web", c.width, c.height, 0.0, std::nullopt, "", ""};
     char text[640];
-#if HAVE_WEB
     // The encode: one core's CPU seconds per frame, times 30 frames a second.
     const Image<uint8_t> preview = makeScene(kWebPreview, kWebPreview * 9 / 16);
     int encoded = 0;
@@ -409,14 +407,11 @@ void benchLiveWeb(const BenchOptions& options, const RowSink& sink) {
     row.live = loaded;
     row.liveBaseline = quiet;
     sink(row);
-#else
-    // Without the web view there is no row: nothing of it can be measured.
-    (void)options;
-    (void)sink;
-    (void)row;
-    (void)text;
-#endif
 }
+#else
+// Without the web view there is no row: nothing of it can be measured.
+void benchLiveWeb(const BenchOptions&, const RowSink&) {}
+#endif
 
 }  // namespace
 
