@@ -346,9 +346,14 @@ async function refreshLoupe() {
 
 // ---- controls -----------------------------------------------------------------------------
 
+// say shows a control's answer; a plain answer fades after 4 s so it does not outlive what it
+// describes ("autofocus started" after the sweep), an error stays until the next answer.
+let sayTimer = 0;
 function say(text, isError) {
+  clearTimeout(sayTimer);
   el.message.textContent = text;
   el.message.className = isError ? "error" : "dim";
+  if (!isError) sayTimer = setTimeout(() => { el.message.textContent = ""; }, 4000);
 }
 
 // send posts one command; its answer (or the reason it failed) shows under the controls.
