@@ -22,6 +22,9 @@
 #if HAVE_TUI
 #include "src/live/tui/tui.h"
 #endif
+#if HAVE_WINDOW
+#include "src/live/window/window.h"
+#endif
 
 namespace infocus::cli {
 
@@ -159,14 +162,29 @@ int runLive(LiveArgs args) {
         ui = "text";
 #endif
     }
-    if (ui != "text" && ui != "json" && ui != "tui")
-        return usageError(kName, "--ui " + ui + " is not a face; use tui, text or json");
+    if (ui != "text" && ui != "json" && ui != "tui" && ui != "window")
+        return usageError(kName, "--ui " + ui + " is not a face; use tui, window, text or json");
 #if !HAVE_TUI
     if (ui == "tui")
         return usageError(kName,
                           "this infocus was built without the terminal face (ncurses); "
                           "use --ui text or --ui json, or rebuild with libncurses-dev");
 #endif
+
+    // The window: a display is checked before the camera opens, the picture kept at full size.
+    if (ui == "window") {
+#if HAVE_WINDOW
+        if (Status st = windowDisplayCheck(); !st) {
+            reportError(kName, st.error());
+            return kExitUsage;
+        }
+        o.previewLongSide = kWindowPreviewLongSide;
+#else
+        return usageError(kName,
+                          "this infocus was built without the window view (SDL2, Dear ImGui); use "
+                          "--ui tui or --ui web, or rebuild with libsdl2-dev and libimgui-dev");
+#endif
+    }
 
     const std::string source = args.source.empty() ? defaultSource() : args.source;
     auto pipeline = LivePipeline::open(source, o);
@@ -191,6 +209,19 @@ int runLive(LiveArgs args) {
         if (Status st = runTui(p, to); !st) rc = reportError(kName, st.error());
     }
 #endif
+#if HAVE_WINDOW
+    if (ui == "window") {
+        WindowOptions wo;
+        wo.seconds = args.seconds;
+        if (args.frames > 0) wo.frames = args.frames;
+        wo.stop = &gStop;
+        // No window after all (SDL_CreateWindow failed): a usage error like no display.
+        if (Status st = runWindow(p, wo); !st)
+            rc = st.error().kind == ErrorKind::Unsupported && !p.ended()
+                     ? (reportError(kName, st.error()), kExitUsage)
+                     : reportError(kName, st.error());
+    }
+#endif
     if (ui == "text" || ui == "json") rc = runPrinted(p, args, ui == "json");
     const bool ended = p.ended();
     const Status end = p.endStatus();
@@ -209,9 +240,11 @@ Command addLiveCommand(CLI::App& app) {
         "The live focus assistant: a meter of sharpness and blur, per region, as you focus");
     sub->add_option("SOURCE", args->source,
                     "A camera, recording, file or sim: (default: the first camera, else sim:)");
-    sub->add_option("--ui", args->ui,
-                    "Face: tui (the terminal meter; the default on a terminal), text (a line a "
-                    "second; the default otherwise) or json (an object a second)");
+    sub->add_option(
+        "--ui", args->ui,
+        "Face: tui (the terminal meter; the default on a terminal), window (the picture "
+        "with overlays and the meter), text (a line a second; the default otherwise) "
+        "or json (an object a second)");
     sub->add_option("--grid", args->grid, "Regions as columns x rows")->capture_default_str();
     sub->add_option("--roi", args->roi, "Score this region x,y,w,h instead of the whole frame");
     sub->add_option("--metric", args->metric, "Sharpness operator (default teng)");
@@ -231,6 +264,8 @@ Command addLiveCommand(CLI::App& app) {
     args->lens.add(sub, LensOptionSet{.coc = true, .pitch = true});
     sub->footer(
         "Keys (tui): left/right focus (Shift x10), a autofocus, r reset peak, g grid, q quit.\n"
+        "Keys (window): also the mouse wheel to focus, p peaking, m magnifier 1:1/2:1, drag a\n"
+        "  region to score it (a click scores the whole frame), Esc quits.\n"
         "Examples:\n"
         "  infocus live\n"
         "  infocus live sim:focal=16mm,fnumber=1.4,distance=1m,focus=0.5m --ui json --seconds 6\n"
