@@ -30,6 +30,9 @@ constexpr auto kStateWait = std::chrono::milliseconds(15);
 constexpr auto kMagnifierPeriod = std::chrono::milliseconds(40);
 // How long a control's error stays in the panel.
 constexpr auto kErrorShown = std::chrono::seconds(4);
+// Without a new state or an event the window is drawn again only this often: drawing is the
+// window's whole cost, and in software (Xvfb, no GPU) it takes CPU from the analysis.
+constexpr auto kIdleRedraw = std::chrono::milliseconds(250);
 // A press and release closer than this (window pixels) is a click, not a drag.
 constexpr float kClickSlop = 4.0f;
 // Peaking's tint, drawn where the mask marks (ARGB).
@@ -197,11 +200,13 @@ Status runWindow(LivePipeline& pipeline, const WindowOptions& options) {
     if (Status st = d.open(); !st) return st;
 
     const Clock::time_point start = Clock::now();
-    Clock::time_point errorUntil = start, lastMagnifier = start;
+    Clock::time_point errorUntil = start, lastMagnifier = start, lastDraw = start;
     std::shared_ptr<const LiveState> state;
     uint64_t shownPicture = UINT64_MAX, shownPeaking = UINT64_MAX, shownMagnifier = UINT64_MAX;
     window::PanelNotes notes;
     notes.bigFont = d.bigFont_;
+    if (SDL_RendererInfo info{}; SDL_GetRendererInfo(d.renderer_, &info) == 0)
+        notes.renderer = info.name;
     std::deque<Clock::time_point> drawn;  // the last second's draws, for the drawn rate
     int zoom = 1;
     std::optional<std::array<int, 3>> sentMagnifier;
@@ -230,7 +235,9 @@ Status runWindow(LivePipeline& pipeline, const WindowOptions& options) {
 
         // Events first: keys and the mouse act on the picture drawn last.
         SDL_Event e;
+        bool dirty = false;
         while (SDL_PollEvent(&e)) {
+            dirty = true;
             ImGui_ImplSDL2_ProcessEvent(&e);
             const ImGuiIO& io = ImGui::GetIO();
             switch (e.type) {
@@ -308,9 +315,13 @@ Status runWindow(LivePipeline& pipeline, const WindowOptions& options) {
         }
 
         if (auto newer = pipeline.waitForState(state ? std::optional(state->frame) : std::nullopt,
-                                               kStateWait))
+                                               kStateWait)) {
             state = newer;
+            dirty = true;
+        }
         if (!notes.status.empty() && Clock::now() >= errorUntil) notes.status.clear();
+        if (!dirty && Clock::now() - lastDraw < kIdleRedraw) continue;
+        lastDraw = Clock::now();
 
         // The layout: the picture letterboxed left of the panel.
         int ww = 0, wh = 0;

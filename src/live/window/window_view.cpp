@@ -283,7 +283,8 @@ void drawPanel(const LiveState* s, const PanelNotes& notes, float windowW, float
     ImGui::Separator();
     row("frame", std::to_string(s->width) + "×" + std::to_string(s->height) + "  grid " +
                      std::to_string(s->cols) + "×" + std::to_string(s->rows));
-    row("analysed", fmt("%.1f fps", s->fps) + fmt("   drawn %.1f fps", notes.drawFps));
+    row("analysed", fmt("%.1f fps", s->fps) + fmt("   drawn %.1f fps", notes.drawFps) + " (" +
+                        notes.renderer + ")");
     row("dropped", std::to_string(s->dropped) + "   skipped " + std::to_string(s->skipped));
     row("latency", fmt("%.1f ms median", s->latencyP50Ms) + fmt(", %.1f ms p99", s->latencyP99Ms));
     row("peaking", std::string(peakingModeName(s->peaking)));

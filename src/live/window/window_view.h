@@ -58,6 +58,7 @@ struct PanelNotes {
     ImFont* bigFont = nullptr;  ///< the score's font; null: the default font scaled
     std::string status;         ///< a control's error, shown instead of the state's status
     double drawFps = 0;         ///< windows drawn per second
+    std::string renderer;       ///< SDL's renderer (opengl, software, …)
     int magnifierZoom = 1;
 };
 
