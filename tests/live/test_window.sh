@@ -5,7 +5,8 @@
 # panel), peaking (≥ 100 pixels of its tint, (255, 32, 32) ± 12), the heat map (≥ 300 pixels of
 # its reddish, orange, yellow or green outlines) and the panel's text (≥ 300 bright pixels). The
 # view exits 0 by itself after --seconds 5 (within 25 s of starting: the first frame of the sim can
-# take seconds on a loaded machine). With no display it exits 2 naming --ui tui and --ui web.
+# take seconds on a loaded machine). With no display it exits 2 naming --ui tui and --ui web. The
+# q key (sent through XTest) closes it with exit 0.
 # Usage: test_window.sh PATH_TO_INFOCUS HAVE_WINDOW(true|false) SCREENSHOT.png
 set -u
 bin=${1:?path to infocus}
@@ -125,6 +126,42 @@ if [[ -n $found ]]; then
 else
 	bad "no screenshot shows the picture with peaking, the heat map and the panel"
 	((n > 0)) && convert -size 1600x1000 -depth 8 "rgb:$tmp/shot$((n - 1)).rgb" "png:$shot" && echo "the last screenshot: $shot"
+fi
+
+# q quits: the key pressed through XTest (libXtst, by ctypes) once the window is up.
+xtest_key() {
+	python3 - "$1" <<'PY'
+import ctypes, sys, time
+x11, xt = ctypes.CDLL('libX11.so.6'), ctypes.CDLL('libXtst.so.6')
+x11.XOpenDisplay.restype = ctypes.c_void_p
+d = ctypes.c_void_p(x11.XOpenDisplay(None))
+code = x11.XKeysymToKeycode(d, ctypes.c_ulong(x11.XStringToKeysym(sys.argv[1].encode())))
+for down in (1, 0):
+    xt.XTestFakeKeyEvent(d, code, down, 0)
+    x11.XFlush(d)
+    time.sleep(0.1)
+PY
+}
+if python3 -c "import ctypes; ctypes.CDLL('libXtst.so.6')" 2>/dev/null; then
+	"$bin" live "$source_string" --ui window --seconds 60 >"$tmp/quit.out" 2>&1 &
+	live_pid=$!
+	sleep 4
+	xtest_key q
+	for ((i = 0; i < 100; i++)); do
+		kill -0 "$live_pid" 2>/dev/null || break
+		sleep 0.2
+	done
+	if kill -0 "$live_pid" 2>/dev/null; then
+		bad "q did not close the window within 20 s"
+		kill "$live_pid"
+		wait "$live_pid"
+	else
+		wait "$live_pid"
+		rc=$?
+		[[ $rc -eq 0 ]] && ok || bad "after q the view exited $rc: $(cat "$tmp/quit.out")"
+	fi
+else
+	echo "note: libXtst is missing, the q key is not tried"
 fi
 
 echo "$pass passed, $fail failed"
