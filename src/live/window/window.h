@@ -28,8 +28,9 @@ struct WindowOptions {
 };
 
 /// Whether a window can be opened here: a display is named (DISPLAY or WAYLAND_DISPLAY) and SDL
-/// can start its video subsystem. ErrorKind::Unsupported naming the other faces otherwise; call
-/// it before opening the camera so a headless run fails at once.
+/// can start its video subsystem on it (not only its offscreen or dummy driver).
+/// ErrorKind::Unsupported naming the other faces otherwise; call it before opening the camera so
+/// a headless run fails at once. On success SDL's video stays initialised for runWindow.
 Status windowDisplayCheck();
 
 /// Shows @p pipeline in a window until `q`/Esc, closing the window, SIGINT/SIGTERM (through
