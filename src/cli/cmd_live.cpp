@@ -28,6 +28,9 @@
 #if HAVE_WEB
 #include "src/live/web/web.h"
 #endif
+#if HAVE_WINDOW
+#include "src/live/window/window.h"
+#endif
 
 namespace infocus::cli {
 
@@ -67,14 +70,14 @@ Result<Faces> parseFaces(const std::string& ui) {
     std::string face;
     const auto usage = [&](const std::string& why) {
         return makeError(ErrorKind::Usage, "--ui " + ui + ": " + why +
-                                               "; use one of tui, text or json, and/or web, "
-                                               "e.g. --ui web or --ui tui,web");
+                                               "; use one of tui, window, text or json, and/or "
+                                               "web, e.g. --ui web or --ui tui,web");
     };
     while (std::getline(list, face, ',')) {
         if (face == "web") {
             f.web = true;
-        } else if (face == "tui" || face == "text" || face == "json") {
-            if (!f.blocking.empty()) return usage("at most one of tui, text and json");
+        } else if (face == "tui" || face == "window" || face == "text" || face == "json") {
+            if (!f.blocking.empty()) return usage("at most one of tui, window, text and json");
             f.blocking = face;
         } else {
             return usage("\"" + face + "\" is not a face");
@@ -227,6 +230,21 @@ int runLive(LiveArgs args) {
     }
 #endif
 
+    // The window: a display is checked before the camera opens, the picture kept at full size.
+    if (ui == "window") {
+#if HAVE_WINDOW
+        if (Status st = windowDisplayCheck(); !st) {
+            reportError(kName, st.error());
+            return kExitUsage;
+        }
+        o.previewLongSide = std::max(o.previewLongSide, kWindowPreviewLongSide);
+#else
+        return usageError(kName,
+                          "this infocus was built without the window view (SDL2, Dear ImGui); use "
+                          "--ui tui or --ui web, or rebuild with libsdl2-dev and libimgui-dev");
+#endif
+    }
+
     const std::string source = args.source.empty() ? defaultSource() : args.source;
     auto pipeline = LivePipeline::open(source, o);
     if (!pipeline) return reportError(kName, pipeline.error());
@@ -262,6 +280,19 @@ int runLive(LiveArgs args) {
         if (Status st = runTui(p, to); !st) rc = reportError(kName, st.error());
     }
 #endif
+#if HAVE_WINDOW
+    if (ui == "window") {
+        WindowOptions win;
+        win.seconds = args.seconds;
+        if (args.frames > 0) win.frames = args.frames;
+        win.stop = &gStop;
+        // No window after all (SDL_CreateWindow failed): a usage error like no display.
+        if (Status st = runWindow(p, win); !st)
+            rc = st.error().kind == ErrorKind::Unsupported && !p.ended()
+                     ? (reportError(kName, st.error()), kExitUsage)
+                     : reportError(kName, st.error());
+    }
+#endif
     if (ui == "text" || ui == "json") rc = runPrinted(p, args, ui == "json");
     if (ui.empty()) rc = runPrinted(p, args, false, false);  // the web view alone
 #if HAVE_WEB
@@ -286,8 +317,9 @@ Command addLiveCommand(CLI::App& app) {
                     "A camera, recording, file or sim: (default: the first camera, else sim:)");
     sub->add_option("--ui", args->ui,
                     "Faces, a comma list: one of tui (the terminal meter; the default on a "
-                    "terminal), text (a line a second; the default otherwise) or json (an object "
-                    "a second), and/or web (the page at --listen)");
+                    "terminal), window (the picture with overlays and the meter), text (a line a "
+                    "second; the default otherwise) or json (an object a second), and/or web (the "
+                    "page at --listen)");
     sub->add_option("--listen", args->listen,
                     "The web view's ADDR:PORT (port 0: any free port); beyond loopback a token "
                     "is required")
@@ -313,6 +345,8 @@ Command addLiveCommand(CLI::App& app) {
     args->lens.add(sub, LensOptionSet{.coc = true, .pitch = true});
     sub->footer(
         "Keys (tui): left/right focus (Shift x10), a autofocus, r reset peak, g grid, q quit.\n"
+        "Keys (window): also the mouse wheel to focus, p peaking, m magnifier 1:1/2:1, drag a\n"
+        "  region to score it (a click scores the whole frame), Esc quits.\n"
         "Examples:\n"
         "  infocus live\n"
         "  infocus live sim:focal=16mm,fnumber=1.4,distance=1m,focus=0.5m --ui json --seconds 6\n"
