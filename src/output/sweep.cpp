@@ -175,7 +175,7 @@ void writeSweepStep(std::ostream& out, const SweepStep& s) {
     const auto d = s.lens.dioptres;
     char blurText[32] = "-";
     if (blur) std::snprintf(blurText, sizeof blurText, "%.2f (%d)", *blur, n);
-    char sharpText[32] = "- (dark)";
+    char sharpText[32] = "-";  // no region Ok: too dark or clipped to score
     if (hasMeasurableRegion(s.analysis))
         std::snprintf(sharpText, sizeof sharpText, "%.6g", s.analysis.frameSharpness);
     print(out, "%5d %14s %12s %16s %22s\n", s.pass + 1,
