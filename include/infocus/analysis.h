@@ -4,10 +4,12 @@
 /// `infocus analyze` contract in docs/design.md; its JSONL form is in output.h).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "infocus/blur.h"
@@ -17,20 +19,47 @@
 
 namespace infocus {
 
-/// Measurements of one region of one frame.
 /// Whether a region could be measured at all. A region too dark or too clipped for its noise and
 /// the format's range has no meaningful score or blur: outputs write them as null, and frame
-/// scores, sweeps, the live view and the report leave the region out.
+/// scores, sweeps, the live view and the report leave the region out (docs/sharpness.md, Dark
+/// and clipped regions).
 enum class RegionStatus { Ok, Dark, Clipped };
 
-/// "ok", "dark", "clipped".
-std::string_view regionStatusName(RegionStatus s);
+/// "ok", "dark", "clipped" (inline: the writers use it without the analyser).
+inline std::string_view regionStatusName(RegionStatus s) {
+    switch (s) {
+        case RegionStatus::Dark:
+            return "dark";
+        case RegionStatus::Clipped:
+            return "clipped";
+        case RegionStatus::Ok:
+            break;
+    }
+    return "ok";
+}
+
+/// Least noise σ (grey levels) the region rule assumes: an 8-bit estimate below half a grey
+/// level is quantisation, and a black frame has no estimate at all.
+inline constexpr double kStatusNoiseFloor = 0.5;
+/// A region is dim when the noise is more than this share of its mean: the gain normalisation
+/// (÷ μ) would then lift the noise alone to the score of a 5 % contrast texture.
+inline constexpr double kDimNoiseShare = 0.05;
+/// A dim region is Dark when its texture (the σ of its pixels between the 1st and 99th
+/// percentiles, noise removed in quadrature; hot pixels fall outside) is under this many noise σ.
+inline constexpr double kDarkContrastSnr = 3.0;
+/// Share of a region's pixels left out at each end for its texture (hot and dead pixels).
+inline constexpr double kStatusTrimShare = 0.01;
+/// A region is Clipped when more than this share of its pixels is at the top of the range
+/// (≥ kNoiseHighEnd): what is left is too little to measure and the clipped edges read sharp.
+inline constexpr double kClippedShare = 0.5;
+
+/// Measurements of one region of one frame.
 
 struct RegionResult {
     int col = 0;             ///< grid column (ROI index for explicit ROIs, whole frame: 0)
     int row = 0;             ///< grid row (0 for ROIs and the whole frame)
     Rect rect;               ///< the region in pixels
-    double sharpness = 0.0;  ///< focus measure of the chosen operator (normalised)
+    double sharpness = 0.0;  ///< focus measure of the chosen operator (normalised); 0 unless Ok
     std::optional<double> edgeWidthPx;   ///< 10–90 % edge rise, pixels
     std::optional<double> blurSigmaPx;   ///< Gaussian-equivalent σ, pixels
     std::optional<double> blurWidthPx;   ///< disc-equivalent diameter (thin-lens ΔX_i), px
@@ -49,12 +78,22 @@ struct FrameAnalysis {
     int height = 0;
     std::string metric;                ///< operator that produced RegionResult::sharpness
     std::optional<double> noiseSigma;  ///< estimated white-noise σ (grey levels) removed from it
-    double frameSharpness = 0.0;       ///< whole-frame score from the regions (combineScores)
+    /// Why noiseSigma is empty although noise correction is on (a black or clipped frame);
+    /// empty otherwise.
+    std::string noiseReason;
+    /// Whole-frame score from the Ok regions (combineScores); 0 when no region is Ok.
+    double frameSharpness = 0.0;
     std::vector<RegionResult> regions;
     /// The median of the regions' halo fractions where enough regions have one
     /// (sharpeningHalo); not in the JSONL.
     std::optional<double> sharpeningHalo;
 };
+
+/// Whether any region of @p a is Ok: without one, FrameAnalysis::frameSharpness means nothing.
+inline bool hasMeasurableRegion(const FrameAnalysis& a) {
+    return std::any_of(a.regions.begin(), a.regions.end(),
+                       [](const RegionResult& r) { return r.status == RegionStatus::Ok; });
+}
 
 /// Median halo fraction across a frame's regions above which its edges count as sharpened
 /// (unsharpened frames, JPEG-compressed or not, stay under it: docs/blur.md, Compressed and
@@ -116,7 +155,8 @@ public:
     /// for a caller that draws from it too.
     Result<FrameAnalysis> analyze(const Frame& frame, uint64_t index, Luma8& luma);
 
-    /// White-noise σ (grey levels) estimated on the last frame and removed from the scores.
+    /// White-noise σ (grey levels) estimated on the last frame and removed from the scores (0
+    /// when noise correction is off or the frame has no estimate).
     double lastNoiseSigma() const;
 
 private:

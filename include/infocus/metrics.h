@@ -87,10 +87,32 @@ double combineScores(std::span<const Rect> regions, std::span<const double> scor
 /// Whole-frame score of @p luma: combineScores over an 8×6 grid.
 double frameSharpness(const Luma8& luma, const SharpnessParams& params, bool centreWeighted);
 
+/// Grey levels at or beyond which a pixel counts as at an end of the 8-bit range for the noise
+/// estimate: noise there is clipped (JPEG rounding puts a clipped level within 1 of the end).
+inline constexpr int kNoiseLowEnd = 1;
+inline constexpr int kNoiseHighEnd = 254;
+/// Share of a cell's sampled pixels at the ends above which the cell is left out of the noise
+/// estimate: under 1 % the level is ≥ 2.3 σ off the end and the clipped noise biases σ < 1 %.
+inline constexpr double kNoiseEndShare = 0.01;
+
+/// A frame's white-noise σ, or why there is none.
+struct NoiseEstimate {
+    std::optional<double> sigma;  ///< grey levels; empty when too few cells are usable
+    std::string reason;           ///< why @ref sigma is empty, for people (empty otherwise)
+    int cells = 0;                ///< cells of the grid
+    int usableCells = 0;          ///< cells off the ends of the range that the estimate used
+};
+
 /// Estimates the white-noise σ of @p luma in grey levels (Immerkær 1996, "Fast noise variance
 /// estimation": σ = √(π/2)·mean|I∗M| / 6 with M the 3×3 Laplacian difference mask), taken as the
-/// 10th percentile over a 16×9 grid so that textured regions do not read as noise. Every fourth
-/// row is sampled. @p simd false forces the reference loops (same result: integer sums).
-double estimateNoiseSigma(const Luma8& luma, bool simd = true);
+/// 10th percentile over a 16×9 grid so that textured regions do not read as noise. Cells with
+/// more than kNoiseEndShare of their pixels at the ends of the range (≤ kNoiseLowEnd,
+/// ≥ kNoiseHighEnd) are left out, their noise being clipped; with fewer than a tenth of the
+/// cells (3 at least) left, there is no estimate. Every fourth row is sampled. @p simd false
+/// forces the reference loops (same result: integer sums).
+NoiseEstimate estimateNoise(const Luma8& luma, bool simd = true);
+
+/// estimateNoise(luma, simd).sigma.
+std::optional<double> estimateNoiseSigma(const Luma8& luma, bool simd = true);
 
 }  // namespace infocus

@@ -1,5 +1,9 @@
 // SPDX-License-Identifier: MIT
 // The per-frame analyser: luma, noise estimate, sharpness of every region, blur width.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
 #include <future>
 #include <thread>
 
@@ -14,6 +18,64 @@ std::string gridLimitText() {
     const std::string side = std::to_string(kMaxGridSide);
     return "use 1x1 to " + side + "x" + side + ", e.g. 16x9";
 }
+
+namespace {
+
+std::string fixed(const char* format, double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, format, v);
+    return buf;
+}
+
+// Dark, Clipped or Ok for the pixels of @p r, with the frame's noise σ @p noise (at least
+// kStatusNoiseFloor); @p reason says why when not Ok. One histogram of the region gives its
+// mean, its share at the top of the range and its trimmed spread.
+RegionStatus classifyRegion(const Luma8& img, const Rect& rect, double noise, std::string& reason) {
+    const Rect r = intersect(rect, {0, 0, img.width, img.height});
+    std::array<uint32_t, 256> hist{};
+    for (int y = r.y; y < r.y + r.h; ++y) {
+        const uint8_t* row = img.row(y);
+        for (int x = r.x; x < r.x + r.w; ++x)
+            ++hist[row[x]];
+    }
+    const double n = static_cast<double>(r.w) * r.h;
+    if (n <= 0) return RegionStatus::Ok;  // sharpness() scores an empty region 0 already
+    double top = 0;
+    for (int v = kNoiseHighEnd; v < 256; ++v)
+        top += hist[v];
+    if (top > kClippedShare * n) {
+        reason = "clipped: " + fixed("%.0f", 100 * top / n) +
+                 " % of the pixels at the top of "
+                 "the range (over " +
+                 fixed("%.0f", 100 * kClippedShare) + " %)";
+        return RegionStatus::Clipped;
+    }
+    // Mean of all pixels (what the score divides by), spread of those between the trimmed ends.
+    const double trim = std::floor(kStatusTrimShare * n);
+    double sum = 0, tsum = 0, tsq = 0, tn = 0, below = 0;
+    for (int v = 0; v < 256; ++v) {
+        const double h = hist[v];
+        sum += h * v;
+        // The part of this bin inside the trimmed range [trim, n − trim).
+        const double in = std::max(0.0, std::min(below + h, n - trim) - std::max(below, trim));
+        tsum += in * v;
+        tsq += in * v * v;
+        tn += in;
+        below += h;
+    }
+    const double mean = sum / n;
+    if (noise <= kDimNoiseShare * mean || tn <= 0) return RegionStatus::Ok;
+    const double tmean = tsum / tn;
+    const double spread = std::sqrt(std::max(0.0, tsq / tn - tmean * tmean));
+    const double texture = std::sqrt(std::max(0.0, spread * spread - noise * noise));
+    if (texture >= kDarkContrastSnr * noise) return RegionStatus::Ok;
+    reason = "dark: mean " + fixed("%.2f", mean) + " and texture " + fixed("%.2f", texture) +
+             " grey levels against noise σ " + fixed("%.2f", noise) + " (texture under " +
+             fixed("%.0f", kDarkContrastSnr) + " σ)";
+    return RegionStatus::Dark;
+}
+
+}  // namespace
 
 struct Analyzer::Impl {
     AnalysisOptions options;
@@ -97,14 +159,34 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
         }
     }
 
-    impl_->noiseSigma = o.noiseCorrection ? estimateNoiseSigma(img) : 0.0;
-    if (o.noiseCorrection) a.noiseSigma = impl_->noiseSigma;
+    // The region rule needs the noise even where the scores are not corrected for it.
+    const NoiseEstimate noise = estimateNoise(img);
+    impl_->noiseSigma = o.noiseCorrection ? noise.sigma.value_or(0.0) : 0.0;
+    if (o.noiseCorrection) {
+        a.noiseSigma = noise.sigma;
+        a.noiseReason = noise.reason;
+    }
     SharpnessParams params = impl_->params;
     params.noiseSigma = impl_->noiseSigma;
     std::vector<double> scores(rects.size());
     sharpness(img, rects, params, scores);
 
-    a.frameSharpness = combineScores(rects, scores, img.width, img.height, o.centreWeighted);
+    const double statusNoise = std::max(kStatusNoiseFloor, noise.sigma.value_or(0.0));
+    std::vector<RegionStatus> status(rects.size());
+    std::vector<std::string> reasons(rects.size());
+    std::vector<Rect> okRects;
+    std::vector<double> okScores;
+    for (size_t i = 0; i < rects.size(); ++i) {
+        status[i] = classifyRegion(img, rects[i], statusNoise, reasons[i]);
+        // Divided by a near-zero mean, an unmeasurable region's noise outscores any focus.
+        if (status[i] != RegionStatus::Ok) {
+            scores[i] = 0.0;
+            continue;
+        }
+        okRects.push_back(rects[i]);
+        okScores.push_back(scores[i]);
+    }
+    a.frameSharpness = combineScores(okRects, okScores, img.width, img.height, o.centreWeighted);
     a.regions.resize(rects.size());
     for (size_t i = 0; i < rects.size(); ++i) {
         RegionResult& r = a.regions[i];
@@ -116,6 +198,8 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
         }
         r.rect = rects[i];
         r.sharpness = scores[i];
+        r.status = status[i];
+        r.statusReason = std::move(reasons[i]);
     }
     if (o.measureBlur) {
         // Blur costs far more than sharpness: spread the regions over the cores, each share
@@ -145,6 +229,7 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
             for (size_t i = begin; i < end; ++i) {
                 const BlurEstimate& b = blur[i - begin];
                 RegionResult& r = a.regions[i];
+                if (r.status != RegionStatus::Ok) continue;
                 r.edgeWidthPx = b.edgeWidthPx;
                 r.blurSigmaPx = b.sigmaPx;
                 r.blurWidthPx = b.discDiameterPx;
@@ -161,18 +246,6 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
         a.sharpeningHalo = sharpeningHalo(a.regions);
     }
     return a;
-}
-
-std::string_view regionStatusName(RegionStatus s) {
-    switch (s) {
-        case RegionStatus::Dark:
-            return "dark";
-        case RegionStatus::Clipped:
-            return "clipped";
-        case RegionStatus::Ok:
-            break;
-    }
-    return "ok";
 }
 
 std::optional<double> sharpeningHalo(const std::vector<RegionResult>& regions) {

@@ -42,8 +42,17 @@ std::string toJsonLine(const FrameAnalysis& a) {
     j["width"] = a.width;
     j["height"] = a.height;
     if (!a.metric.empty()) j["metric"] = a.metric;
-    if (a.noiseSigma) j["noise_sigma"] = *a.noiseSigma;
-    j["frame_sharpness"] = a.frameSharpness;
+    if (a.noiseSigma) {
+        j["noise_sigma"] = *a.noiseSigma;
+    } else if (!a.noiseReason.empty()) {
+        j["noise_sigma"] = nullptr;
+        j["noise_reason"] = a.noiseReason;
+    }
+    // A frame without an Ok region has no score (docs/design.md).
+    if (a.regions.empty() || hasMeasurableRegion(a))
+        j["frame_sharpness"] = a.frameSharpness;
+    else
+        j["frame_sharpness"] = nullptr;
     Json regions = Json::array();
     for (const auto& r : a.regions) {
         Json o;
@@ -53,11 +62,14 @@ std::string toJsonLine(const FrameAnalysis& a) {
         o["y"] = r.rect.y;
         o["w"] = r.rect.w;
         o["h"] = r.rect.h;
-        o["sharpness"] = r.sharpness;
-        o["edge_width_px"] = optionalNumber(r.edgeWidthPx);
-        o["blur_sigma_px"] = optionalNumber(r.blurSigmaPx);
-        o["blur_width_px"] = optionalNumber(r.blurWidthPx);
-        o["confidence"] = r.confidence;
+        const bool ok = r.status == RegionStatus::Ok;
+        o["sharpness"] = ok ? Json(r.sharpness) : Json(nullptr);
+        o["edge_width_px"] = optionalNumber(ok ? r.edgeWidthPx : std::nullopt);
+        o["blur_sigma_px"] = optionalNumber(ok ? r.blurSigmaPx : std::nullopt);
+        o["blur_width_px"] = optionalNumber(ok ? r.blurWidthPx : std::nullopt);
+        o["confidence"] = ok ? r.confidence : 0.0;
+        o["status"] = regionStatusName(r.status);
+        if (!ok) o["reason"] = r.statusReason;
         regions.push_back(std::move(o));
     }
     j["regions"] = std::move(regions);
@@ -162,11 +174,14 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
         a.height = static_cast<int>(integer(j, "height", 1, kIntMax));
         if (j.contains("metric"))
             a.metric = typed(j, "metric", &Json::is_string, "a string").get<std::string>();
-        if (j.contains("frame_sharpness"))
+        if (j.contains("frame_sharpness") && !j["frame_sharpness"].is_null())
             a.frameSharpness =
                 typed(j, "frame_sharpness", &Json::is_number, "a number").get<double>();
         if (j.contains("noise_sigma") && j["noise_sigma"].is_number())
             a.noiseSigma = j["noise_sigma"].get<double>();
+        if (j.contains("noise_reason"))
+            a.noiseReason =
+                typed(j, "noise_reason", &Json::is_string, "a string").get<std::string>();
         if (j.contains("lens_position") && j["lens_position"].is_object()) {
             const Json& l = j["lens_position"];
             LensPosition p;
@@ -195,7 +210,23 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
                       static_cast<int>(integer(o, "y", 0, kIntMax)),
                       static_cast<int>(integer(o, "w", 1, kIntMax)),
                       static_cast<int>(integer(o, "h", 1, kIntMax))};
-            r.sharpness = typed(o, "sharpness", &Json::is_number, "a number").get<double>();
+            if (o.contains("status")) {
+                const std::string st =
+                    typed(o, "status", &Json::is_string, "a string").get<std::string>();
+                if (st == "dark")
+                    r.status = RegionStatus::Dark;
+                else if (st == "clipped")
+                    r.status = RegionStatus::Clipped;
+                else if (st != "ok")
+                    throw BadField{"\"status\" is \"" + st +
+                                   "\"; analyze writes \"ok\", \"dark\" or \"clipped\""};
+                if (o.contains("reason"))
+                    r.statusReason =
+                        typed(o, "reason", &Json::is_string, "a string").get<std::string>();
+            }
+            // A region that could not be measured has no score.
+            if (r.status == RegionStatus::Ok || !o.at("sharpness").is_null())
+                r.sharpness = typed(o, "sharpness", &Json::is_number, "a number").get<double>();
             // Widths are lengths: a negative one is no blur analyze measures.
             r.edgeWidthPx = number(o, "edge_width_px", 0.0, kHuge);
             r.blurSigmaPx = number(o, "blur_sigma_px", 0.0, kHuge);

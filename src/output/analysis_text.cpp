@@ -24,14 +24,19 @@ std::string csvNumber(const std::optional<double>& v) {
 void writeAnalysisCsv(std::ostream& out, const FrameAnalysis& a, bool header) {
     if (header)
         out << "frame,timestamp_ns,lens_value,lens_unit,width,height,col,row,x,y,w,h,sharpness,"
-               "edge_width_px,blur_sigma_px,blur_width_px,confidence\n";
+               "edge_width_px,blur_sigma_px,blur_width_px,confidence,status,reason\n";
     for (const auto& r : a.regions) {
+        // A region that could not be measured has empty fields (its reason has no comma).
+        const bool ok = r.status == RegionStatus::Ok;
+        const auto value = [ok](const std::optional<double>& v) {
+            return ok ? csvNumber(v) : std::string();
+        };
         out << a.frame << ',' << a.timestampNs << ',' << (a.lens ? csvNumber(a.lens->value) : "")
             << ',' << (a.lens ? a.lens->unit : "") << ',' << a.width << ',' << a.height << ','
             << r.col << ',' << r.row << ',' << r.rect.x << ',' << r.rect.y << ',' << r.rect.w << ','
-            << r.rect.h << ',' << csvNumber(r.sharpness) << ',' << csvNumber(r.edgeWidthPx) << ','
-            << csvNumber(r.blurSigmaPx) << ',' << csvNumber(r.blurWidthPx) << ','
-            << csvNumber(r.confidence) << '\n';
+            << r.rect.h << ',' << value(r.sharpness) << ',' << value(r.edgeWidthPx) << ','
+            << value(r.blurSigmaPx) << ',' << value(r.blurWidthPx) << ',' << value(r.confidence)
+            << ',' << regionStatusName(r.status) << ',' << (ok ? "" : r.statusReason) << '\n';
     }
 }
 
@@ -47,12 +52,24 @@ void writeAnalysisTable(std::ostream& out, const FrameAnalysis& a, bool grid) {
     if (a.noiseSigma) {
         std::snprintf(buf, sizeof buf, "  noise σ %.2f", *a.noiseSigma);
         out << buf;
+    } else if (!a.noiseReason.empty()) {
+        out << "  noise σ -";
     }
-    std::snprintf(buf, sizeof buf, "  whole frame %s %.4g", a.metric.c_str(), a.frameSharpness);
-    out << buf;
+    if (a.regions.empty() || hasMeasurableRegion(a)) {
+        std::snprintf(buf, sizeof buf, "  whole frame %s %.4g", a.metric.c_str(), a.frameSharpness);
+        out << buf;
+    } else {
+        out << "  whole frame - (no region could be measured)";
+    }
     out << "\n";
     if (!grid) {
         for (const auto& r : a.regions) {
+            if (r.status != RegionStatus::Ok) {
+                std::snprintf(buf, sizeof buf, "  roi %d (%d,%d %dx%d): ", r.col, r.rect.x,
+                              r.rect.y, r.rect.w, r.rect.h);
+                out << buf << r.statusReason << "\n";
+                continue;
+            }
             std::snprintf(buf, sizeof buf, "  roi %d (%d,%d %dx%d): %s %.4g", r.col, r.rect.x,
                           r.rect.y, r.rect.w, r.rect.h, a.metric.c_str(), r.sharpness);
             out << buf;
@@ -70,24 +87,32 @@ void writeAnalysisTable(std::ostream& out, const FrameAnalysis& a, bool grid) {
     for (const auto& r : a.regions) {
         cols = std::max(cols, r.col + 1);
         rows = std::max(rows, r.row + 1);
-        peak = std::max(peak, r.sharpness);
+        if (r.status == RegionStatus::Ok) peak = std::max(peak, r.sharpness);
     }
     out << "  sharpness (" << a.metric << ", % of the sharpest region)";
     for (int c = 0; c < std::max(0, cols * 5 - 38); ++c)
         out << ' ';
     out << "   blur width, px (disc diameter; (w) confidence under " << kLowBlurConfidence
-        << "; - no edge)\n";
+        << "; - no edge; dark, clip: not measurable)\n";
     for (int row = 0; row < rows; ++row) {
         out << "  ";
         for (int c = 0; c < cols; ++c) {
             const auto& r = a.regions[static_cast<size_t>(row * cols + c)];
-            std::snprintf(buf, sizeof buf, "%5.0f", peak > 0 ? 100 * r.sharpness / peak : 0.0);
+            if (r.status == RegionStatus::Dark)
+                std::snprintf(buf, sizeof buf, "%5s", "dark");
+            else if (r.status == RegionStatus::Clipped)
+                std::snprintf(buf, sizeof buf, "%5s", "clip");
+            else
+                std::snprintf(buf, sizeof buf, "%5.0f", peak > 0 ? 100 * r.sharpness / peak : 0.0);
             out << buf;
         }
         out << "   ";
         for (int c = 0; c < cols; ++c) {
             const auto& r = a.regions[static_cast<size_t>(row * cols + c)];
-            if (r.blurWidthPx && r.confidence < kLowBlurConfidence) {
+            if (r.status != RegionStatus::Ok) {
+                std::snprintf(buf, sizeof buf, "%6s",
+                              r.status == RegionStatus::Dark ? "dark" : "clip");
+            } else if (r.blurWidthPx && r.confidence < kLowBlurConfidence) {
                 // In parentheses: a width to take with caution (kLowBlurConfidence).
                 char low[32];
                 std::snprintf(low, sizeof low, *r.blurWidthPx < 99.95 ? "(%.1f)" : "(%.0f)",

@@ -54,6 +54,8 @@ std::string depthJsonLine(const FrameAnalysis& a, const DepthMap& map, const Dep
         o["h"] = r.rect.h;
         o["blur_width_px"] = metresOrNull(r.blurWidthPx);
         o["confidence"] = r.confidence;
+        o["status"] = regionStatusName(r.status);
+        if (r.status != RegionStatus::Ok) o["reason"] = r.statusReason;
         if (d.roots) {
             o["defocus_px"] = d.roots->defocusBlur / camera.pixelPitch;
             o["near_m"] = d.roots->nearRoot;
@@ -115,7 +117,10 @@ void writeDepthTable(std::ostream& out, const FrameAnalysis& a, const DepthMap& 
     for (const auto& d : map.regions) {
         const RegionResult& r = a.regions[d.region];
         char blur[32];
-        if (r.blurWidthPx)
+        if (r.status != RegionStatus::Ok)
+            std::snprintf(blur, sizeof blur, "%8s",
+                          r.status == RegionStatus::Dark ? "dark" : "clip");
+        else if (r.blurWidthPx)
             std::snprintf(blur, sizeof blur, "%8.2f", *r.blurWidthPx);
         else
             std::snprintf(blur, sizeof blur, "%8s", "-");

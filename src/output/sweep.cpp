@@ -52,7 +52,7 @@ double median(std::vector<double> v) {
 std::pair<std::optional<double>, int> medianBlur(const FrameAnalysis& a) {
     std::vector<double> w;
     for (const RegionResult& r : a.regions)
-        if (r.blurWidthPx) w.push_back(*r.blurWidthPx);
+        if (r.blurWidthPx && r.status == RegionStatus::Ok) w.push_back(*r.blurWidthPx);
     if (w.empty()) return {std::nullopt, 0};
     return {median(w), static_cast<int>(w.size())};
 }
@@ -113,16 +113,18 @@ std::string sweepSummaryJson(std::string_view source, const SweepResult& r, int 
     Json steps = Json::array();
     for (const SweepStep& s : r.steps) {
         const auto [blur, withBlur] = medianBlur(s.analysis);
-        steps.push_back({{"pass", s.pass},
-                         {"commanded", s.commanded},
-                         {"lens_position",
-                          {{"value", s.lens.value},
-                           {"unit", s.lens.unit},
-                           {"dioptres", s.lens.dioptres ? Json(*s.lens.dioptres) : Json(nullptr)}}},
-                         {"frame", s.analysis.frame},
-                         {"frame_sharpness", s.analysis.frameSharpness},
-                         {"median_blur_width_px", blur ? Json(*blur) : Json(nullptr)},
-                         {"regions_with_blur", withBlur}});
+        steps.push_back(
+            {{"pass", s.pass},
+             {"commanded", s.commanded},
+             {"lens_position",
+              {{"value", s.lens.value},
+               {"unit", s.lens.unit},
+               {"dioptres", s.lens.dioptres ? Json(*s.lens.dioptres) : Json(nullptr)}}},
+             {"frame", s.analysis.frame},
+             {"frame_sharpness",
+              hasMeasurableRegion(s.analysis) ? Json(s.analysis.frameSharpness) : Json(nullptr)},
+             {"median_blur_width_px", blur ? Json(*blur) : Json(nullptr)},
+             {"regions_with_blur", withBlur}});
     }
     j["steps"] = steps;
     j["best"] = peakJson(r.best, unit);
@@ -173,9 +175,12 @@ void writeSweepStep(std::ostream& out, const SweepStep& s) {
     const auto d = s.lens.dioptres;
     char blurText[32] = "-";
     if (blur) std::snprintf(blurText, sizeof blurText, "%.2f (%d)", *blur, n);
-    print(out, "%5d %14s %12s %16.6g %22s\n", s.pass + 1,
+    char sharpText[32] = "-";  // no region Ok: too dark or clipped to score
+    if (hasMeasurableRegion(s.analysis))
+        std::snprintf(sharpText, sizeof sharpText, "%.6g", s.analysis.frameSharpness);
+    print(out, "%5d %14s %12s %16s %22s\n", s.pass + 1,
           positionText(s.lens.value, s.lens.unit).c_str(), d ? inFocusText(*d).c_str() : "-",
-          s.analysis.frameSharpness, blurText);
+          sharpText, blurText);
 }
 
 void writeSweepSummary(std::ostream& out, const SweepResult& r, bool movedToBest) {

@@ -405,17 +405,21 @@ private:
             s->metric = a->metric;
 
             double score = a->frameSharpness;
+            // A frame with no region Ok (lens cap, light off) has no score: the meter skips it
+            // rather than read its 0 as the lens leaving focus.
+            bool scored = hasMeasurableRegion(*a);
             if (roi && !options_.measureOverride && roi->x + roi->w <= luma.width &&
                 roi->y + roi->h <= luma.height) {
                 SharpnessParams params;
                 if (auto op = parseOperator(a->metric)) params.op = *op;
                 params.noiseSigma = analyzer_->lastNoiseSigma();
                 score = regionSharpness(luma, *roi, params);
+                scored = true;
             }
             const auto now = Clock::now();
             const double tS = std::chrono::duration<double>(now - start_).count();
             s->elapsedS = tS;
-            meter_.add(tS, score);
+            if (scored) meter_.add(tS, score);
             s->score = meter_.score();
             s->peak = meter_.peak();
             s->percentOfPeak = meter_.percentOfPeak();

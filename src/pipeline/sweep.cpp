@@ -272,15 +272,21 @@ Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
     for (double p : positionsBetween(from, to, options.steps, true))
         if (auto s = measureAt(p, 0); !s) return s.error();
 
-    const auto curveOf = [&](const std::function<double(const FrameAnalysis&)>& score,
-                             std::vector<double>& x, std::vector<double>& y) {
-        std::vector<std::pair<double, double>> pts;
-        for (const SweepStep& s : result.steps)
-            pts.emplace_back(s.lens.value, score(s.analysis));
-        sortedCurve(std::move(pts), x, y);
-    };
+    // A step without a score (no Ok region, or the region Dark or Clipped) is no point of the
+    // curve: a dark end of the sweep must not look like a peak or a trough.
+    const auto curveOf =
+        [&](const std::function<std::optional<double>(const FrameAnalysis&)>& score,
+            std::vector<double>& x, std::vector<double>& y) {
+            std::vector<std::pair<double, double>> pts;
+            for (const SweepStep& s : result.steps)
+                if (const auto v = score(s.analysis)) pts.emplace_back(s.lens.value, *v);
+            sortedCurve(std::move(pts), x, y);
+        };
     std::vector<double> x, y;
-    const auto frameScore = [](const FrameAnalysis& a) { return a.frameSharpness; };
+    const auto frameScore = [](const FrameAnalysis& a) -> std::optional<double> {
+        if (!hasMeasurableRegion(a)) return std::nullopt;
+        return a.frameSharpness;
+    };
 
     if (options.refineSteps > 0) {
         curveOf(frameScore, x, y);
@@ -297,8 +303,10 @@ Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
     const size_t regions = result.steps.empty() ? 0 : result.steps.front().analysis.regions.size();
     for (size_t r = 0; r < regions; ++r) {
         curveOf(
-            [r](const FrameAnalysis& a) {
-                return r < a.regions.size() ? a.regions[r].sharpness : 0.0;
+            [r](const FrameAnalysis& a) -> std::optional<double> {
+                if (r >= a.regions.size() || a.regions[r].status != RegionStatus::Ok)
+                    return std::nullopt;
+                return a.regions[r].sharpness;
             },
             x, y);
         result.regionBest.push_back(findFocusPeak(x, y));
@@ -309,7 +317,7 @@ Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
             for (const SweepStep& s : result.steps) {
                 if (r >= s.analysis.regions.size()) continue;
                 const RegionResult& reg = s.analysis.regions[r];
-                if (!reg.blurWidthPx) continue;
+                if (!reg.blurWidthPx || reg.status != RegionStatus::Ok) continue;
                 p.push_back(s.lens.value);
                 b.push_back(*reg.blurWidthPx);
                 w.push_back(reg.confidence);

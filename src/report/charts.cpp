@@ -86,7 +86,7 @@ void ReportWriter::Impl::maps(std::string& h, const Entry& e) const {
     if (cols * rows != static_cast<int>(a.regions.size())) return;  // ROIs, not a grid
     double best = 0.0;
     for (const auto& r : a.regions)
-        best = std::max(best, r.sharpness);
+        if (r.status == RegionStatus::Ok) best = std::max(best, r.sharpness);
     const int cw = 60, ch = 34;
     const auto grid = [&](bool blur) {
         h +=
@@ -96,7 +96,11 @@ void ReportWriter::Impl::maps(std::string& h, const Entry& e) const {
         for (const auto& r : a.regions) {
             const int x = r.col * cw, y = r.row * ch;
             std::string fill, label, ink = "#000";
-            if (blur) {
+            if (r.status != RegionStatus::Ok) {
+                // Not measurable (too dark or clipped): no score, no blur.
+                fill = "#eee";
+                label = std::string(regionStatusName(r.status));
+            } else if (blur) {
                 fill = r.blurWidthPx ? blurColour(*r.blurWidthPx, o.optics.cocPx) : "#eee";
                 label = r.blurWidthPx ? fmt("%.1f", *r.blurWidthPx) : "-";
             } else {

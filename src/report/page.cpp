@@ -119,8 +119,11 @@ void ReportWriter::Impl::regionTable(std::string& h, const Entry& e) const {
     };
     for (const RegionDepth& d : e.map.regions) {
         const RegionResult& r = e.a.regions[d.region];
-        h += fmt("<tr><td>%s</td><td>%d, %d, %d, %d</td><td>%.4g</td>", regionName(r).c_str(),
-                 r.rect.x, r.rect.y, r.rect.w, r.rect.h, r.sharpness);
+        h += fmt("<tr><td>%s</td><td>%d, %d, %d, %d</td><td>%s</td>", regionName(r).c_str(),
+                 r.rect.x, r.rect.y, r.rect.w, r.rect.h,
+                 r.status == RegionStatus::Ok
+                     ? fmt("%.4g", r.sharpness).c_str()
+                     : escapeHtml(std::string(regionStatusName(r.status))).c_str());
         h += "<td>" + opt(r.edgeWidthPx) + "</td><td>" + opt(r.blurSigmaPx) + "</td><td>" +
              opt(r.blurWidthPx) + "</td>" + fmt("<td>%.2f</td>", r.confidence);
         h += std::string("<td>") +
@@ -300,14 +303,14 @@ std::string ReportWriter::html() const {
             const double med = median(blurs);
             h += fmt(
                 "<tr><td><a "
-                "href=\"#frame%zu\">%llu</a></td><td>%s</td><td>%.4g</td><td>%zu</td><td>%d</td>"
+                "href=\"#frame%zu\">%llu</a></td><td>%s</td><td>%s</td><td>%zu</td><td>%d</td>"
                 "<td>%s</td><td>%s</td></tr>",
                 i, static_cast<unsigned long long>(e.a.frame),
                 e.a.lens
                     ? fmt("%.4g %s", e.a.lens->value, escapeHtml(e.a.lens->unit).c_str()).c_str()
                     : "-",
-                e.a.frameSharpness, blurs.size(), sharp,
-                std::isnan(med) ? "-" : fmt("%.2f", med).c_str(), at.c_str());
+                hasMeasurableRegion(e.a) ? fmt("%.4g", e.a.frameSharpness).c_str() : "-",
+                blurs.size(), sharp, std::isnan(med) ? "-" : fmt("%.2f", med).c_str(), at.c_str());
         }
         h += "</table>";
     }

@@ -142,11 +142,46 @@ TEST_CASE("CSV: the header once, one row per region, empty cells for what is mis
     REQUIRE(rows.size() == 1 + 2 * 2);
     CHECK(rows[0] ==
           "frame,timestamp_ns,lens_value,lens_unit,width,height,col,row,x,y,w,h,sharpness,"
-          "edge_width_px,blur_sigma_px,blur_width_px,confidence");
+          "edge_width_px,blur_sigma_px,blur_width_px,confidence,status,reason");
     // No lens: its two cells empty; no edge: the three blur cells empty.
-    CHECK(rows[1] == "7,1500000000,,,640,480,0,0,0,0,320,480,0.5,1.75,0.5,2.5,0.875");
-    CHECK(rows[2] == "7,1500000000,,,640,480,1,0,320,0,320,480,0.125,,,,0");
+    CHECK(rows[1] == "7,1500000000,,,640,480,0,0,0,0,320,480,0.5,1.75,0.5,2.5,0.875,ok,");
+    CHECK(rows[2] == "7,1500000000,,,640,480,1,0,320,0,320,480,0.125,,,,0,ok,");
     CHECK(rows[3] == rows[1]);
+    // A dark region: no score, no blur, its status and reason.
+    FrameAnalysis a = twoRegions();
+    a.regions[1].status = RegionStatus::Dark;
+    a.regions[1].statusReason = "dark: mean 0.10";
+    std::ostringstream dark;
+    writeAnalysisCsv(dark, a, false);
+    CHECK(lines(dark.str())[1] ==
+          "7,1500000000,,,640,480,1,0,320,0,320,480,,,,,,dark,dark: mean 0.10");
+}
+
+TEST_CASE("JSONL: a dark region and a black frame have null scores and say why") {
+    FrameAnalysis a = twoRegions();
+    a.noiseReason = "cannot be estimated";
+    for (RegionResult& r : a.regions) {
+        r.status = RegionStatus::Dark;
+        r.statusReason = "dark: mean 0.10";
+    }
+    const Json j = Json::parse(toJsonLine(a));
+    CHECK(j["frame_sharpness"].is_null());
+    CHECK(j["noise_sigma"].is_null());
+    CHECK(j["noise_reason"] == "cannot be estimated");
+    CHECK(j["regions"][0]["sharpness"].is_null());
+    CHECK(j["regions"][0]["blur_width_px"].is_null());
+    CHECK(j["regions"][0]["status"] == "dark");
+    CHECK(j["regions"][0]["reason"] == "dark: mean 0.10");
+    const auto back = parseJsonLine(toJsonLine(a));
+    REQUIRE(back);
+    CHECK(back->noiseReason == "cannot be estimated");
+    CHECK(back->regions[1].status == RegionStatus::Dark);
+    CHECK(back->regions[1].statusReason == "dark: mean 0.10");
+    CHECK_FALSE(back->regions[1].blurWidthPx);
+    // An Ok region has "status" and no "reason".
+    const Json ok = Json::parse(toJsonLine(twoRegions()));
+    CHECK(ok["regions"][0]["status"] == "ok");
+    CHECK_FALSE(ok["regions"][0].contains("reason"));
 }
 
 TEST_CASE("dof JSON: an infinite far limit is null, the wanted limits only when asked") {

@@ -132,18 +132,32 @@ double frameSharpness(const Luma8& luma, const SharpnessParams& params, bool cen
     return combineScores(regions, scores, luma.width, luma.height, centreWeighted);
 }
 
-double estimateNoiseSigma(const Luma8& img, bool simd) {
+NoiseEstimate estimateNoise(const Luma8& img, bool simd) {
     const auto regions = gridRegions(img.width, img.height, 16, 9);
+    NoiseEstimate out;
+    out.cells = static_cast<int>(regions.size());
     std::vector<double> sigmas;
     for (const Rect& r : regions) {
         const Rect a = validArea(img, r, 1);
         // Every fourth row: the estimate needs statistics, not every pixel.
         constexpr int kRowStep = 4;
         const long count = static_cast<long>(a.w) * ((a.h + kRowStep - 1) / kRowStep);
+        if (count == 0) continue;
+        // Noise clipped at an end of the range reads too low (0 where the whole cell is black
+        // or white): a cell counts only where its sampled rows stay off the ends.
+        long atEnds = 0;
+        for (int y = a.y; y < a.y + a.h; y += kRowStep) {
+            const uint8_t* c = img.row(y);
+            int rowCount = 0;
+            for (int x = a.x; x < a.x + a.w; ++x)
+                rowCount += c[x] <= kNoiseLowEnd || c[x] >= kNoiseHighEnd;
+            atEnds += rowCount;
+        }
+        if (atEnds > kNoiseEndShare * static_cast<double>(count)) continue;
         if (simd && detail::haveAvx2()) {
             const int64_t sum = detail::simdImmerkaerSum(img, a, kRowStep);
             if (sum >= 0) {
-                if (count) sigmas.push_back(std::sqrt(M_PI / 2) * sum / (6.0 * count));
+                sigmas.push_back(std::sqrt(M_PI / 2) * sum / (6.0 * count));
                 continue;
             }
         }
@@ -162,12 +176,25 @@ double estimateNoiseSigma(const Luma8& img, bool simd) {
             }
             sum += rowSum;
         }
-        if (count) sigmas.push_back(std::sqrt(M_PI / 2) * sum / (6.0 * count));
+        sigmas.push_back(std::sqrt(M_PI / 2) * sum / (6.0 * count));
     }
-    if (sigmas.empty()) return 0.0;
+    out.usableCells = static_cast<int>(sigmas.size());
+    // A tenth of the cells (3 at least) keeps the 10th percentile a statistic, not one cell.
+    const int needed = std::max(3, out.cells / 10);
+    if (out.usableCells < needed) {
+        out.reason = "cannot be estimated: " + std::to_string(out.usableCells) + " of " +
+                     std::to_string(out.cells) +
+                     " cells are off the ends of the range (the frame is black or clipped)";
+        return out;
+    }
     const size_t k = sigmas.size() / 10;
     std::nth_element(sigmas.begin(), sigmas.begin() + k, sigmas.end());
-    return sigmas[k];
+    out.sigma = sigmas[k];
+    return out;
+}
+
+std::optional<double> estimateNoiseSigma(const Luma8& img, bool simd) {
+    return estimateNoise(img, simd).sigma;
 }
 
 }  // namespace infocus
