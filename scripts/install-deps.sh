@@ -5,7 +5,7 @@
 set -euo pipefail
 
 pkgs=(meson ninja-build pkg-config g++ clang-format
-	libopencv-dev libcamera-dev catch2 libturbojpeg0-dev libjpeg-dev
+	libopencv-dev libcamera-dev catch2 libturbojpeg0-dev libjpeg-dev libpng-dev
 	libcli11-dev nlohmann-json3-dev libncurses-dev tmux)
 if [[ "${1:-}" == "--vm" ]]; then
 	pkgs+=(qemu-system-x86 linux-image-amd64 busybox-static v4l-utils cpio
