@@ -20,7 +20,8 @@
 namespace infocus {
 
 /// What a stack's region could tell. Dark and Clipped come from the per-frame analysis
-/// (RegionStatus); NoTexture is a sharpness curve that stays flat against its own noise.
+/// (RegionStatus); NoTexture is a sharpness curve whose rise over the stack is under 10 % of
+/// its peak or under 3 times the score the frames' white noise adds to it (StackRegion::noise).
 enum class StackRegionStatus { Ok, NoTexture, Dark, Clipped };
 
 /// "ok", "no_texture", "dark", "clipped".
@@ -64,6 +65,8 @@ struct StackRegion {
     std::vector<std::optional<double>> blurWidth;  ///< disc-equivalent diameter per frame, px
     std::vector<double> confidence;                ///< blur confidence per frame
     std::vector<bool> usable;  ///< per frame: measured (RegionStatus::Ok) and so in the curves
+    /// Per frame: the score the frame's white noise (estimateNoiseSigma) adds to the region's.
+    std::vector<double> noise;
     StackRegionStatus status = StackRegionStatus::Ok;
     std::string statusReason;  ///< why not Ok, for people
     /// Sharpness peak on the stack's axis (StackResult::axis): Gaussian interpolation through

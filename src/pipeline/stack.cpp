@@ -25,8 +25,8 @@ namespace {
 // A region whose sharpness rises by less than this share of its peak over the stack has no
 // texture to focus on (a frame's noise alone moves a score by a few per cent).
 constexpr double kMinRise = 0.1;
-// ... nor one whose rise is under this many times the scatter of its curve away from the peak.
-constexpr double kMinRiseOverNoise = 6.0;
+// ... nor one whose rise is under this many times what white noise adds to its score.
+constexpr double kMinRiseOverNoise = 3.0;
 // A blur V whose arms rise over the stack by less than this many times its RMS residual is a
 // cloud of readings, not a V: its vertex is not reported.
 constexpr double kMinVRiseOverRms = 3.0;
@@ -46,25 +46,12 @@ std::string trim(std::string s) {
     return s;
 }
 
-// The scatter of a curve's readings away from its peak: the robust σ (1.4826·MAD about 0) of
-// its second differences, each of which holds √6 σ of independent noise; the three readings
-// about the highest are left out, where the curve itself bends. 0 when too few remain.
-double curveNoise(const std::vector<double>& y) {
-    const size_t n = y.size();
-    const size_t k = std::max_element(y.begin(), y.end()) - y.begin();
-    std::vector<double> d;
-    for (size_t i = 1; i + 1 < n; ++i)
-        if (i + 1 < k || i > k + 1) d.push_back(std::abs(y[i - 1] - 2 * y[i] + y[i + 1]));
-    if (d.empty()) return 0.0;
-    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-    return 1.4826 * d[d.size() / 2] / std::sqrt(6.0);
-}
-
 // What one worker measured of one frame.
 struct Measured {
     FrameAnalysis analysis;
     std::vector<uint8_t> luma;   // tightly packed, when maps are built
     std::vector<double> scores;  // the dense map's windows
+    std::vector<double> noise;   // per region: what the frame's white noise adds to its score
 };
 
 }  // namespace
@@ -292,12 +279,16 @@ void assessRegion(StackRegion& g, const StackResult& r) {
     g.status = StackRegionStatus::Ok;
     g.statusReason.clear();
     const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
-    const double rise = *hi - *lo, noise = curveNoise(y);
+    std::vector<double> noises;
+    for (size_t i = 0; i < n; ++i)
+        if (g.usable[i]) noises.push_back(g.noise[i]);
+    std::nth_element(noises.begin(), noises.begin() + noises.size() / 2, noises.end());
+    const double rise = *hi - *lo, noise = noises[noises.size() / 2];
     if (!(rise >= kMinRise * *hi) || !(rise > kMinRiseOverNoise * noise)) {
         g.status = StackRegionStatus::NoTexture;
         char buf[160];
         std::snprintf(buf, sizeof buf,
-                      "sharpness rises by %.0f %% of its peak and %.1f times its scatter "
+                      "sharpness rises by %.0f %% of its peak and %.1f times its noise "
                       "(needs %.0f %% and %.0f times)",
                       *hi > 0 ? 100.0 * rise / *hi : 0.0, noise > 0 ? rise / noise : 0.0,
                       100 * kMinRise, kMinRiseOverNoise);
@@ -434,6 +425,19 @@ Result<StackResult> analyzeStack(std::string_view source, const StackOptions& op
             }
             Measured& m = measured[i];
             m.analysis = std::move(*a);
+            // The score white noise of the frame's σ adds (the closed-form term the operator
+            // removes when told σ; 0 for operators without one): what a region without texture
+            // scores, and so the yardstick of a flat curve.
+            std::vector<Rect> rects;
+            for (const RegionResult& reg : m.analysis.regions)
+                rects.push_back(reg.rect);
+            SharpnessParams plain = sp, corrected = sp;
+            corrected.noiseSigma = estimateNoiseSigma(luma);
+            std::vector<double> s0(rects.size()), s1(rects.size());
+            sharpness(luma, rects, plain, s0);
+            sharpness(luma, rects, corrected, s1);
+            for (size_t k = 0; k < rects.size(); ++k)
+                m.noise.push_back(std::max(0.0, s0[k] - s1[k]));
             if (!options.maps) continue;
             m.scores.resize(windows.size());
             sharpness(luma, windows, sp, m.scores);
@@ -472,6 +476,7 @@ Result<StackResult> analyzeStack(std::string_view source, const StackOptions& op
             g.blurWidth.push_back(ok ? reg.blurWidthPx : std::nullopt);
             g.confidence.push_back(ok ? reg.confidence : 0.0);
             g.usable.push_back(ok);
+            g.noise.push_back(measured[i].noise[k]);
         }
         g.status = dark >= clipped ? StackRegionStatus::Dark : StackRegionStatus::Clipped;
         g.statusReason = dark >= clipped ? "dark" : "clipped";

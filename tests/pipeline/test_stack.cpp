@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "infocus/luma.h"
 #include "infocus/metrics.h"
 #include "infocus/recording.h"
 #include "infocus/sim.h"
@@ -261,4 +262,54 @@ TEST_CASE("a positions file: its rows and its faults", "[stack]") {
         CHECK(b.error().message.find("p.csv") != std::string::npos);
     }
     CHECK(readPositionsCsv(tmp.file("none.csv")).error().kind == ErrorKind::NotFound);
+}
+
+TEST_CASE("a stack without texture: every region is marked, none given a peak", "[stack]") {
+    // Five frames of a flat grey with white noise (σ 2 grey levels), different in each frame.
+    test::ScratchDir tmp("infocus-stack-");
+    SourceInfo info;
+    info.sourceString = "flat";
+    info.format = PixelFormat::GREY;
+    info.size = {320, 240};
+    auto writer = RecordingWriter::create(tmp.file("rec"), makeRecordingHeader(info, nullptr));
+    REQUIRE(writer);
+    uint32_t state = 12345;
+    const auto gauss = [&] {  // Irwin-Hall: twelve uniforms, σ 1
+        double s = 0;
+        for (int i = 0; i < 12; ++i) {
+            state = state * 1664525u + 1013904223u;
+            s += (state >> 8) / double(1 << 24);
+        }
+        return s - 6.0;
+    };
+    for (int f = 0; f < 5; ++f) {
+        Image<uint8_t> img(320, 240);
+        for (int y = 0; y < 240; ++y)
+            for (int x = 0; x < 320; ++x)
+                img.at(x, y) = static_cast<uint8_t>(std::lround(100 + 2 * gauss()));
+        Frame frame = frameFromLuma(img.view());
+        frame.sequence = f;
+        REQUIRE((*writer)->append(frame));
+    }
+    REQUIRE((*writer)->close());
+    StackOptions o;
+    o.cols = 4;
+    o.rows = 3;
+    auto r = analyzeStack(tmp.file("rec"), o);
+    REQUIRE(r);
+    for (const StackRegion& g : r->regions) {
+        INFO("region " << g.col << "," << g.row << ": " << g.statusReason);
+        CHECK(g.status == StackRegionStatus::NoTexture);
+        CHECK(!g.peakFrame);
+        CHECK(!g.agree);
+    }
+    CHECK(stackAgreement(*r).textured == 0);
+    // Whole-stack faults: too few frames, positions of the wrong count or direction.
+    o.positions = {LensPosition{1, "mm", {}}, LensPosition{2, "mm", {}}};
+    CHECK(analyzeStack(tmp.file("rec"), o).error().kind == ErrorKind::Usage);
+    o.positions.clear();
+    for (double p : {1.0, 2.0, 2.0, 3.0, 4.0})
+        o.positions.push_back(LensPosition{p, "mm", {}});
+    CHECK(analyzeStack(tmp.file("rec"), o).error().message.find("frames 1 and 2") !=
+          std::string::npos);
 }
