@@ -43,8 +43,8 @@ html = open(sys.argv[2] + "/report.html").read()
 assert "Focus map" in html and "composite" in html and html.count("<svg") >= 3
 PY
 
-# Agreement of the two measures on the real stacks (the Pi sweep counts once its black frames
-# read dark; test_stack_pi.sh says whether they do). Target: 80 % of the textured regions with both.
+# Agreement of the two measures on the focus stacks. Target: 80 % of the textured regions with
+# both. The Pi sweep is left out: its blur V does not hold (docs/stack.md, Measured).
 "$bin" stack "$data/focus-stack/depthmap" --json >"$tmp/depthmap.json" 2>"$tmp/err" && ok || bad "depthmap: $(cat "$tmp/err")"
 if python3 - "$tmp/pcb.json" "$tmp/depthmap.json" <<'PY'; then ok; else bad "agreement under 80 %"; fi
 import json, sys
