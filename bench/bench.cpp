@@ -14,6 +14,7 @@ void runAll(const BenchOptions& options, const RowSink& sink) {
     if (wanted("sharpness")) benchSharpness(options, sink);
     if (wanted("mjpeg")) benchMjpeg(options, sink);
     if (wanted("blur")) benchBlur(options, sink);
+    if (wanted("stack")) benchStack(options, sink);
     if (wanted("live") && options.liveSeconds > 0) benchLive(options, sink);
 }
 

@@ -47,13 +47,13 @@ struct BenchRow {
 struct BenchOptions {
     double secondsPerCase = 0.25;  ///< time budget for each timed loop
     double liveSeconds = 20.0;     ///< length of each live run (0: no live rows)
-    /// Only this family of rows ("sharpness", "mjpeg", "blur", "live"); empty: all.
+    /// Only this family of rows ("sharpness", "mjpeg", "blur", "stack", "live"); empty: all.
     std::string only;
 };
 
 /// The families of rows BenchOptions::only chooses from.
 inline const std::vector<std::string>& benchFamilies() {
-    static const std::vector<std::string> families{"sharpness", "mjpeg", "blur", "live"};
+    static const std::vector<std::string> families{"sharpness", "mjpeg", "blur", "stack", "live"};
     return families;
 }
 
@@ -77,6 +77,8 @@ void benchSharpness(const BenchOptions& options, const RowSink& sink);
 void benchMjpeg(const BenchOptions& options, const RowSink& sink);
 /// Blur width (measureBlur) for every region of a 16×9 grid on a synthetic 1080p frame.
 void benchBlur(const BenchOptions& options, const RowSink& sink);
+/// `infocus stack` on 16 JPEG frames of 2048×1536 (one row, ms per stack) against one thread.
+void benchStack(const BenchOptions& options, const RowSink& sink);
 /// Recordings (1080p60 YUYV, 1080p30 MJPEG, 2160p30 YUYV; made in a temporary directory and
 /// removed) replayed at their own pace through the live pipeline for options.liveSeconds each,
 /// beside the same pipeline measuring with an OpenCV composition (liveBaselineName()).

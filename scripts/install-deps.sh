@@ -5,7 +5,7 @@
 set -euo pipefail
 
 pkgs=(meson ninja-build pkg-config g++ clang-format
-	libopencv-dev libcamera-dev catch2 libturbojpeg0-dev libjpeg-dev
+	libopencv-dev libcamera-dev catch2 libturbojpeg0-dev libjpeg-dev libpng-dev
 	libcli11-dev nlohmann-json3-dev libncurses-dev tmux libcpp-httplib-dev
 	chromium chromium-driver python3-selenium
 	libsdl2-dev libimgui-dev xvfb x11-apps imagemagick)

@@ -6,16 +6,19 @@
 /// the contract in docs/design.md; lengths for people come from units.h.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "infocus/analysis.h"
 #include "infocus/depth_map.h"
 #include "infocus/dof.h"
 #include "infocus/error.h"
 #include "infocus/live.h"
+#include "infocus/stack.h"
 #include "infocus/sweep.h"
 #include "infocus/units.h"
 
@@ -99,6 +102,33 @@ std::string dofJson(const optics::DofResult& r, const optics::DofInput& in,
 /// limits, the hyperfocal distance, the common approximations and the diffraction budget.
 void writeDofText(std::ostream& out, const optics::DofResult& r, const optics::DofInput& in,
                   std::string_view cocSource, const std::optional<DofWanted>& wanted = {});
+
+// ---- stack: a focus stack's per-region peaks and maps ----
+
+/// A stack's analysis as one JSON object (the `infocus stack --json` object and stack.json):
+/// `frames`, `regions` (col, row, peak_frame, blur_peak_frame, agree, peak_position,
+/// in_focus_distance_m, status and the curves; null where there is no value, an infinite
+/// distance too), `agreement` and `focus_map`. @p indent as nlohmann's dump.
+std::string stackJson(const StackResult& r, int indent = -1);
+
+/// Writes a stack's analysis for people: the frames, the grid of each region's peak frame
+/// (marks for regions without one), of its position where positions are known, whether the
+/// sharpness peak and the blur vertex agree, and the counts.
+void writeStackTable(std::ostream& out, const StackResult& r);
+
+/// An 8-bit grey (@p channels 1), 16-bit grey (@p bitDepth 16) or 8-bit RGB (@p channels 3)
+/// image of @p width × @p height tightly packed pixels (16-bit in native order) as PNG bytes.
+Result<std::string> encodePng(int width, int height, int channels, int bitDepth,
+                              const void* pixels);
+
+/// The dense focus map as 16-bit grey pixels (one a map cell): 0 where no window had texture,
+/// else 1 + 65534 · (axis value − low) / (high − low) over the stack's axis (StackResult::axis),
+/// so that the brightest is the highest position; @p low and @p high receive the two ends.
+std::vector<uint16_t> focusMap16(const StackResult& r, double& low, double& high);
+
+/// The dense focus map in colour (viridis over the stack's axis, grey where no texture), enlarged
+/// to about @p widthPx and with a legend of the axis beside it, as 8-bit RGB pixels.
+std::vector<uint8_t> focusMapColour(const StackResult& r, int widthPx, int& width, int& height);
 
 /// The state as the JSON object of `live --ui json` and the web view's /state (one line, no
 /// newline): frame, source, sequence, live_camera, fps, dropped, skipped, latency_p50_ms,

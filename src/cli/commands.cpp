@@ -13,9 +13,9 @@ namespace infocus::cli {
 std::vector<Command> registerCommands(CLI::App& app) {
     // Order here is the order of `infocus --help`.
     return {
-        addLiveCommand(app),  addDevicesCommand(app), addAnalyzeCommand(app),
-        addDofCommand(app),   addDepthCommand(app),   addRecordCommand(app),
-        addSweepCommand(app), addReportCommand(app),  addBenchCommand(app),
+        addLiveCommand(app),   addDevicesCommand(app), addAnalyzeCommand(app), addDofCommand(app),
+        addDepthCommand(app),  addRecordCommand(app),  addSweepCommand(app),   addStackCommand(app),
+        addReportCommand(app), addBenchCommand(app),
     };
 }
 

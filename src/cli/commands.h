@@ -73,5 +73,6 @@ Command addLiveCommand(CLI::App& app);
 Command addRecordCommand(CLI::App& app);
 Command addReportCommand(CLI::App& app);
 Command addSweepCommand(CLI::App& app);
+Command addStackCommand(CLI::App& app);
 
 }  // namespace infocus::cli

@@ -1,0 +1,509 @@
+// SPDX-License-Identifier: MIT
+// Focus stacks (include/infocus/stack.h): read every frame, measure them on a few threads, and
+// find where each region is sharpest by its sharpness curve and by the V of its blur widths.
+#include "infocus/stack.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "infocus/metrics.h"
+#include "infocus/source.h"
+#include "src/core/read_number.h"
+#include "stack_internal.h"
+
+namespace infocus {
+
+namespace {
+
+// A region whose sharpness rises by less than this share of its peak over the stack has no
+// texture to focus on (a frame's noise alone moves a score by a few per cent).
+constexpr double kMinRise = 0.1;
+// ... nor one whose rise is under this many times what white noise adds to its score.
+constexpr double kMinRiseOverNoise = 3.0;
+// A blur V whose arms rise over the stack by less than this many times its RMS residual is a
+// cloud of readings, not a V: its vertex is not reported.
+constexpr double kMinVRiseOverRms = 3.0;
+// Blur widths above this share of a region's shorter side are left out of its V.
+constexpr double kMaxBlurShare = 0.25;
+// Fewer measured frames than this make no curve.
+constexpr size_t kMinFrames = 3;
+
+double seconds(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string trim(std::string s) {
+    const auto notSpace = [](unsigned char c) { return !std::isspace(c); };
+    s.erase(s.begin(), std::find_if(s.begin(), s.end(), notSpace));
+    s.erase(std::find_if(s.rbegin(), s.rend(), notSpace).base(), s.end());
+    return s;
+}
+
+// What one worker measured of one frame.
+struct Measured {
+    FrameAnalysis analysis;
+    std::vector<uint8_t> luma;   // tightly packed, when maps are built
+    std::vector<double> scores;  // the dense map's windows
+    std::vector<double> noise;   // per region: what the frame's white noise adds to its score
+};
+
+}  // namespace
+
+std::string_view stackRegionStatusName(StackRegionStatus s) {
+    switch (s) {
+        case StackRegionStatus::NoTexture:
+            return "no_texture";
+        case StackRegionStatus::Dark:
+            return "dark";
+        case StackRegionStatus::Clipped:
+            return "clipped";
+        case StackRegionStatus::Ok:
+            break;
+    }
+    return "ok";
+}
+
+Result<std::vector<LensPosition>> readPositionsCsv(const std::string& path) {
+    std::ifstream in(path);
+    if (!in)
+        return makeError(ErrorKind::NotFound, "cannot read the positions file '" + path +
+                                                  "'; give a CSV of frame,position,unit rows");
+    std::map<long, LensPosition> rows;
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        const std::string where = path + " line " + std::to_string(number) + ": ";
+        line = trim(line);
+        if (line.empty() || line[0] == '#') continue;
+        std::vector<std::string> cells;
+        std::stringstream ss(line);
+        for (std::string c; std::getline(ss, c, ',');)
+            cells.push_back(trim(c));
+        if (cells.size() == 3 && cells[0] == "frame" && cells[1] == "position") continue;
+        if (cells.size() != 3)
+            return makeError(ErrorKind::Usage,
+                             where + "'" + line + "' is not frame,position,unit (e.g. 0,1.25,dpt)");
+        long frame = 0;
+        if (!readsWhole(cells[0], frame) || frame < 0)
+            return makeError(ErrorKind::Usage,
+                             where + "frame '" + cells[0] + "' is not a frame number from 0");
+        LensPosition p;
+        const std::string& unit = cells[2];
+        if (unit == "m" && cells[1] == "inf") {
+            p.value = HUGE_VAL;
+        } else if (const std::string_view v = std::string_view(cells[1]).substr(
+                       cells[1].starts_with('+') ? 1 : 0);  // "+20": a stage's Z as printed
+                   !readsWhole(v, p.value) || !std::isfinite(p.value)) {
+            return makeError(ErrorKind::Usage,
+                             where + "position '" + cells[1] + "' is not a finite number");
+        }
+        if (unit.empty() || unit.find_first_of(" \"") != std::string::npos)
+            return makeError(ErrorKind::Usage,
+                             where + "give a unit: dpt, m, or the axis's own (mm, um, steps)");
+        if (unit == "dpt" || unit == "dioptre") {
+            if (p.value < 0)
+                return makeError(ErrorKind::Usage, where + "a lens focus of " + cells[1] +
+                                                       " dpt lies beyond infinity");
+            p.unit = "dioptre";
+            p.dioptres = p.value;
+        } else if (unit == "m") {
+            if (!(p.value > 0))
+                return makeError(ErrorKind::Usage,
+                                 where + "a focused distance must be above 0 m (or inf)");
+            p.unit = "m";
+            p.dioptres = 1.0 / p.value;
+        } else {
+            p.unit = unit;
+        }
+        if (!rows.emplace(frame, p).second)
+            return makeError(ErrorKind::Usage,
+                             where + "frame " + cells[0] + " is given a second time");
+    }
+    std::vector<LensPosition> out;
+    for (const auto& [frame, p] : rows) {
+        if (frame != static_cast<long>(out.size()))
+            return makeError(ErrorKind::Usage, path + ": frame " + std::to_string(out.size()) +
+                                                   " has no row (frames count from 0, each once)");
+        out.push_back(p);
+    }
+    if (out.empty()) return makeError(ErrorKind::Usage, path + " holds no frame,position,unit row");
+    return out;
+}
+
+double StackResult::axisAt(double f) const {
+    if (axis.empty()) return f;
+    const double c = std::clamp(f, 0.0, static_cast<double>(axis.size() - 1));
+    const size_t i = std::min(static_cast<size_t>(c), axis.size() - 1);
+    if (i + 1 >= axis.size()) return axis.back();
+    return axis[i] + (axis[i + 1] - axis[i]) * (c - i);
+}
+
+double StackResult::frameAt(double v) const {
+    const size_t n = axis.size();
+    if (n < 2) return 0.0;
+    const bool up = axis.back() > axis.front();
+    if (up ? v <= axis.front() : v >= axis.front()) return 0.0;
+    for (size_t i = 0; i + 1 < n; ++i) {
+        const double a = axis[i], b = axis[i + 1];
+        if (up ? v <= b : v >= b) return i + (v - a) / (b - a);
+    }
+    return static_cast<double>(n - 1);
+}
+
+std::optional<double> StackResult::dioptresAt(double f) const {
+    if (axisUnit != "dioptre") return std::nullopt;
+    return axisAt(f);
+}
+
+std::optional<double> StackResult::positionAt(double f) const {
+    if (!hasPositions) return std::nullopt;
+    // A distance in metres is interpolated in dioptres, the lens's own linear scale.
+    if (positionUnit == "m") {
+        const double d = axisAt(f);
+        return d > 0 ? 1.0 / d : HUGE_VAL;
+    }
+    return axisAt(f);
+}
+
+StackAgreement stackAgreement(const StackResult& r) {
+    StackAgreement a;
+    for (const StackRegion& g : r.regions) {
+        if (g.status != StackRegionStatus::Ok) continue;
+        ++a.textured;
+        if (!g.agree) continue;
+        ++a.both;
+        a.agree += *g.agree;
+    }
+    return a;
+}
+
+namespace {
+
+// Chooses the axis the curves are fitted on (StackResult::axis) from the frames' positions.
+Status chooseAxis(StackResult& r, bool fromCsv) {
+    const size_t n = r.frames.size();
+    r.hasPositions = std::all_of(r.frames.begin(), r.frames.end(),
+                                 [](const StackFrame& f) { return f.lens.has_value(); });
+    if (r.hasPositions) {
+        const std::string unit = r.frames.front().lens->unit;
+        for (const StackFrame& f : r.frames)
+            if (f.lens->unit != unit) r.hasPositions = false;
+        r.positionUnit = r.hasPositions ? unit : "";
+    }
+    const bool dioptres =
+        r.hasPositions && std::all_of(r.frames.begin(), r.frames.end(), [](const StackFrame& f) {
+            return f.lens->dioptres.has_value();
+        });
+    r.axis.clear();
+    for (const StackFrame& f : r.frames)
+        r.axis.push_back(dioptres         ? *f.lens->dioptres
+                         : r.hasPositions ? f.lens->value
+                                          : static_cast<double>(f.index));
+    r.axisUnit = dioptres ? "dioptre" : r.hasPositions ? r.positionUnit : "frame";
+    const double dir = n > 1 ? r.axis[1] - r.axis[0] : 1.0;
+    for (size_t i = 1; i < n; ++i) {
+        const double d = r.axis[i] - r.axis[i - 1];
+        if (!(d * dir > 0))
+            return makeError(ErrorKind::Usage,
+                             std::string(fromCsv ? "the positions file" : r.source) +
+                                 ": the positions of frames " + std::to_string(i - 1) + " and " +
+                                 std::to_string(i) +
+                                 " do not run the same way as the others (a stack's positions "
+                                 "must rise or fall, each frame at its own)" +
+                                 (fromCsv ? "" : "; give --positions FILE.csv"));
+    }
+    return {};
+}
+
+// fitBlurV, then again without the readings whose residual is beyond kVOutlierSigmas robust σ
+// (1.4826·MAD of the residuals, at least 0.5 px): an edge the blur engine misread on one frame
+// (a width of twice its neighbours') otherwise moves the vertex by tenths of a frame.
+std::optional<BlurVFit> robustBlurV(std::vector<double> p, std::vector<double> b,
+                                    std::vector<double> w) {
+    constexpr double kVOutlierSigmas = 3.0;
+    auto fit = fitBlurV(p, b, w);
+    for (int pass = 0; pass < 2 && fit; ++pass) {
+        std::vector<double> res;
+        for (size_t i = 0; i < p.size(); ++i)
+            if (w[i] > 0)
+                res.push_back(
+                    std::abs(b[i] - fit->slopePxPerUnit * std::abs(p[i] - fit->position)));
+        std::vector<double> sorted = res;
+        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+        const double limit = kVOutlierSigmas * std::max(0.5, 1.4826 * sorted[sorted.size() / 2]);
+        std::vector<double> p2, b2, w2;
+        for (size_t i = 0, k = 0; i < p.size(); ++i) {
+            if (!(w[i] > 0)) continue;
+            if (res[k++] > limit) continue;
+            p2.push_back(p[i]);
+            b2.push_back(b[i]);
+            w2.push_back(w[i]);
+        }
+        if (p2.size() == p.size()) break;
+        auto refit = fitBlurV(p2, b2, w2);
+        if (!refit) break;
+        fit = refit;
+        p.swap(p2), b.swap(b2), w.swap(w2);
+    }
+    return fit;
+}
+
+// Fills a region's curves from the measured frames and finds its peaks.
+void assessRegion(StackRegion& g, const StackResult& r) {
+    const size_t n = r.frames.size();
+    std::vector<double> x, y, bx, bw, bc;
+    for (size_t i = 0; i < n; ++i) {
+        if (!g.usable[i]) continue;
+        x.push_back(r.axis[i]);
+        y.push_back(g.sharpness[i]);
+        // A blur wider than a quarter of the region leaves no room for an edge's profile
+        // inside it: such a reading mixes in the neighbours' depths.
+        if (g.blurWidth[i] && *g.blurWidth[i] <= kMaxBlurShare * std::min(g.rect.w, g.rect.h)) {
+            bx.push_back(r.axis[i]);
+            bw.push_back(*g.blurWidth[i]);
+            bc.push_back(g.confidence[i]);
+        }
+    }
+    if (x.size() < kMinFrames) {
+        g.status = g.status == StackRegionStatus::Ok ? StackRegionStatus::Dark : g.status;
+        g.statusReason += " in " + std::to_string(n - x.size()) + " of " + std::to_string(n) +
+                          " frames: too few measured frames for a curve";
+        return;
+    }
+    g.status = StackRegionStatus::Ok;
+    g.statusReason.clear();
+    const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
+    std::vector<double> noises;
+    for (size_t i = 0; i < n; ++i)
+        if (g.usable[i]) noises.push_back(g.noise[i]);
+    std::nth_element(noises.begin(), noises.begin() + noises.size() / 2, noises.end());
+    const double rise = *hi - *lo, noise = noises[noises.size() / 2];
+    if (!(rise >= kMinRise * *hi) || !(rise > kMinRiseOverNoise * noise)) {
+        g.status = StackRegionStatus::NoTexture;
+        char buf[160];
+        std::snprintf(buf, sizeof buf,
+                      "sharpness rises by %.0f %% of its peak and %.1f times its noise "
+                      "(needs %.0f %% and %.0f times)",
+                      *hi > 0 ? 100.0 * rise / *hi : 0.0, noise > 0 ? rise / noise : 0.0,
+                      100 * kMinRise, kMinRiseOverNoise);
+        g.statusReason = buf;
+        return;
+    }
+    g.peak = findFocusPeak(x, y);
+    g.blurFit = robustBlurV(bx, bw, bc);
+    if (g.blurFit) {
+        double reach = 0;
+        for (double p : bx)
+            reach = std::max(reach, std::abs(p - g.blurFit->position));
+        if (!(g.blurFit->slopePxPerUnit * reach >= kMinVRiseOverRms * g.blurFit->rmsPx))
+            g.blurFit.reset();
+    }
+    if (g.peak) {
+        g.peakFrame = r.frameAt(g.peak->position);
+        g.peakPosition = r.positionAt(*g.peakFrame);
+        g.peakDioptres = r.dioptresAt(*g.peakFrame);
+        if (g.peakDioptres)
+            g.inFocusDistance = *g.peakDioptres > 0 ? 1 / *g.peakDioptres : HUGE_VAL;
+    }
+    if (g.blurFit) g.blurPeakFrame = r.frameAt(g.blurFit->position);
+    // A peak at the stack's first or last frame may lie beyond it, where a V (two readings on
+    // each side of its vertex) cannot reach: there is nothing to compare.
+    if (g.peakFrame && g.blurPeakFrame && !g.peak->atEnd)
+        g.agree = std::abs(*g.peakFrame - *g.blurPeakFrame) <= 1.0;
+}
+
+}  // namespace
+
+Result<StackResult> analyzeStack(std::string_view source, const StackOptions& options) {
+    const auto t0 = std::chrono::steady_clock::now();
+    AnalysisOptions ao;
+    ao.cols = options.cols;
+    ao.rows = options.rows;
+    ao.metric = options.metric;
+    ao.measureBlur = true;
+    // As in a sweep (docs/sweep.md): a per-frame noise correction grows towards focus and pushes
+    // every region's peak away from it; the noise itself is the same in every frame.
+    ao.noiseCorrection = false;
+    if (options.mapStepPx < 2 || options.mapStepPx > 1024)
+        return makeError(ErrorKind::Usage, "the focus map's step must be 2 to 1024 pixels");
+    if (auto a = Analyzer::create(ao); !a) return a.error();
+    auto op = parseOperator(options.metric.empty() ? operatorName(kDefaultOperator)
+                                                   : std::string_view(options.metric));
+    if (!op) return op.error();
+
+    auto opened = openSource(source);
+    if (!opened) return opened.error();
+    FrameSource& src = **opened;
+    const SourceInfo info = src.info();
+    if (info.transfer.curve) ao.transfer = *info.transfer.curve;
+    if (auto s = src.start(); !s) return s.error();
+    std::vector<Frame> frames;
+    for (;;) {
+        auto f = src.next();
+        if (!f && f.error().kind == ErrorKind::EndOfStream) break;
+        if (!f) {
+            src.stop();
+            Error e = f.error();
+            // A skipped frame would shift every later frame against its position.
+            e.message = std::string(source) + ": frame " + std::to_string(frames.size()) +
+                        " cannot be read (" + e.message + "); a stack needs every frame";
+            return e;
+        }
+        if (!frames.empty() && f->size != frames.front().size) {
+            src.stop();
+            return makeError(ErrorKind::Usage,
+                             std::string(source) + ": frame " + std::to_string(frames.size()) +
+                                 (f->origin.empty() ? "" : " (" + f->origin + ")") + " is " +
+                                 std::to_string(f->size.width) + "x" +
+                                 std::to_string(f->size.height) + ", the first " +
+                                 std::to_string(frames.front().size.width) + "x" +
+                                 std::to_string(frames.front().size.height) +
+                                 ": a stack's frames are all one size");
+        }
+        frames.push_back(std::move(*f));
+    }
+    src.stop();
+    const size_t n = frames.size();
+    if (n < kMinFrames)
+        return makeError(ErrorKind::Usage, std::string(source) + " has " + std::to_string(n) +
+                                               " frame(s): a stack needs at least " +
+                                               std::to_string(kMinFrames) +
+                                               " (a directory, a glob, a video or a recording)");
+    if (!options.positions.empty() && options.positions.size() != n)
+        return makeError(ErrorKind::Usage,
+                         "the positions file gives " + std::to_string(options.positions.size()) +
+                             " frame(s), " + std::string(source) + " has " + std::to_string(n));
+
+    StackResult r;
+    r.source = source;
+    r.width = frames.front().size.width;
+    r.height = frames.front().size.height;
+    for (size_t i = 0; i < n; ++i) {
+        StackFrame sf;
+        sf.index = i;
+        sf.origin = frames[i].origin;
+        sf.lens = options.positions.empty() ? frames[i].lens : options.positions[i];
+        r.frames.push_back(std::move(sf));
+    }
+    if (auto s = chooseAxis(r, !options.positions.empty()); !s) return s.error();
+
+    std::vector<Rect> windows;
+    if (options.maps)
+        windows = stack_detail::focusMapWindows(r.width, r.height, options.mapStepPx, r.map);
+    SharpnessParams sp;
+    sp.op = *op;
+
+    // Frames are measured on a few threads, each with its own analyser (not thread-safe).
+    std::vector<Measured> measured(n);
+    std::atomic<size_t> next{0};
+    std::mutex failMutex;
+    std::optional<Error> failure;
+    const auto work = [&] {
+        auto analyzer = Analyzer::create(ao);
+        if (!analyzer) {
+            std::lock_guard lock(failMutex);
+            failure = analyzer.error();
+            return;
+        }
+        for (size_t i; (i = next++) < n;) {
+            Luma8 luma;
+            auto a = (*analyzer)->analyze(frames[i], i, luma);
+            if (!a) {
+                std::lock_guard lock(failMutex);
+                Error e = a.error();
+                e.message = "frame " + std::to_string(i) +
+                            (frames[i].origin.empty() ? "" : " (" + frames[i].origin + ")") + ": " +
+                            e.message;
+                if (!failure) failure = e;
+                return;
+            }
+            Measured& m = measured[i];
+            m.analysis = std::move(*a);
+            // The score white noise of the frame's σ adds (the closed-form term the operator
+            // removes when told σ; 0 for operators without one): what a region without texture
+            // scores, and so the yardstick of a flat curve.
+            std::vector<Rect> rects;
+            for (const RegionResult& reg : m.analysis.regions)
+                rects.push_back(reg.rect);
+            SharpnessParams plain = sp, corrected = sp;
+            corrected.noiseSigma = estimateNoiseSigma(luma);
+            std::vector<double> s0(rects.size()), s1(rects.size());
+            sharpness(luma, rects, plain, s0);
+            sharpness(luma, rects, corrected, s1);
+            for (size_t k = 0; k < rects.size(); ++k)
+                m.noise.push_back(std::max(0.0, s0[k] - s1[k]));
+            if (!options.maps) continue;
+            m.scores.resize(windows.size());
+            sharpness(luma, windows, sp, m.scores);
+            m.luma.resize(static_cast<size_t>(r.width) * r.height);
+            for (int y = 0; y < r.height; ++y)
+                std::copy_n(luma.row(y), r.width, m.luma.data() + static_cast<size_t>(y) * r.width);
+            frames[i] = Frame{};  // its bytes are no longer needed
+        }
+    };
+    const int threads = std::clamp(options.threads, 1, 64);
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t)
+        pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool)
+        t.join();
+    if (failure) return *failure;
+    r.analysisSeconds = seconds(t0);
+
+    r.metric = measured.front().analysis.metric;
+    for (size_t i = 0; i < n; ++i)
+        r.frames[i].frameSharpness = measured[i].analysis.frameSharpness;
+    const std::vector<RegionResult>& first = measured.front().analysis.regions;
+    for (size_t k = 0; k < first.size(); ++k) {
+        StackRegion g;
+        g.col = first[k].col;
+        g.row = first[k].row;
+        g.rect = first[k].rect;
+        int dark = 0, clipped = 0;
+        for (size_t i = 0; i < n; ++i) {
+            const RegionResult& reg = measured[i].analysis.regions[k];
+            const bool ok = reg.status == RegionStatus::Ok;
+            dark += reg.status == RegionStatus::Dark;
+            clipped += reg.status == RegionStatus::Clipped;
+            g.sharpness.push_back(reg.sharpness);
+            g.blurWidth.push_back(ok ? reg.blurWidthPx : std::nullopt);
+            g.confidence.push_back(ok ? reg.confidence : 0.0);
+            g.usable.push_back(ok);
+            g.noise.push_back(measured[i].noise[k]);
+        }
+        g.status = dark >= clipped ? StackRegionStatus::Dark : StackRegionStatus::Clipped;
+        g.statusReason = dark >= clipped ? "dark" : "clipped";
+        assessRegion(g, r);
+        r.regions.push_back(std::move(g));
+    }
+
+    if (options.maps) {
+        const auto t1 = std::chrono::steady_clock::now();
+        std::vector<std::vector<double>> scores(n);
+        std::vector<std::vector<uint8_t>> lumas(n);
+        for (size_t i = 0; i < n; ++i) {
+            scores[i] = std::move(measured[i].scores);
+            lumas[i] = std::move(measured[i].luma);
+        }
+        stack_detail::findMapPeaks(scores, r.map);
+        std::vector<double> x, y;
+        for (size_t i = 0; i < n; ++i) {
+            x.push_back(static_cast<double>(i));
+            y.push_back(r.frames[i].frameSharpness);
+        }
+        const auto best = findFocusPeak(x, y);
+        r.composite = stack_detail::composeAllInFocus(r.map, lumas, r.width, r.height,
+                                                      best ? best->position : 0.0);
+        r.mapSeconds = seconds(t1);
+    }
+    return r;
+}
+
+}  // namespace infocus
