@@ -432,7 +432,7 @@ Result<StackResult> analyzeStack(std::string_view source, const StackOptions& op
             for (const RegionResult& reg : m.analysis.regions)
                 rects.push_back(reg.rect);
             SharpnessParams plain = sp, corrected = sp;
-            corrected.noiseSigma = estimateNoiseSigma(luma);
+            corrected.noiseSigma = estimateNoiseSigma(luma).value_or(0.0);
             std::vector<double> s0(rects.size()), s1(rects.size());
             sharpness(luma, rects, plain, s0);
             sharpness(luma, rects, corrected, s1);
