@@ -7,7 +7,9 @@
 
 #include <catch2/catch.hpp>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 #include <string>
@@ -346,6 +348,52 @@ TEST_CASE("video files play through OpenCV as GREY frames") {
     auto bad = openPath(path + ".bin");
     REQUIRE(!bad.ok());
     REQUIRE_THAT(bad.error().message, Catch::Contains("clip.avi.bin"));
+}
+
+TEST_CASE("a truncated video reports the frames its container lists but that did not decode") {
+    const test::ScratchDir scratch("infocus-test-files-");
+    const std::string path = scratch.file("cut.avi");
+    {
+        cv::VideoWriter vw(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10.0, {64, 48});
+        REQUIRE(vw.isOpened());
+        for (int f = 0; f < 10; ++f)
+            vw.write(cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(20 * f)));
+    }
+    // Cut the file just after its first frame's chunk ("00dc" in the "movi" list): the header
+    // still lists 10.
+    std::string bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const size_t first = bytes.find("00dc", bytes.find("movi"));
+    REQUIRE(first != std::string::npos);
+    const size_t second = bytes.find("00dc", first + 4);
+    REQUIRE(second != std::string::npos);
+    std::filesystem::resize_file(path, second);
+    auto src = openPath(path);
+    REQUIRE(src.ok());
+    REQUIRE((*src)->info().frameCount == 10);
+    int errors = 0;
+    std::vector<std::string> messages;
+    REQUIRE((*src)->start().ok());
+    size_t frames = 0;
+    while (true) {
+        auto f = (*src)->next();
+        if (!f && f.error().kind == ErrorKind::EndOfStream) break;
+        if (f) {
+            ++frames;
+            continue;
+        }
+        ++errors;
+        messages.push_back(f.error().message);
+        REQUIRE(f.error().kind == ErrorKind::Corrupt);
+    }
+    // The frame before the cut decodes; the nine after it are reported once, by file name.
+    REQUIRE(frames == 1);
+    REQUIRE(errors == 1);
+    REQUIRE_THAT(messages[0], Catch::Contains("cut.avi") && Catch::Contains("lists 10 frames") &&
+                                  Catch::Contains("9 of them"));
 }
 
 TEST_CASE("a video file is offered to OpenCV's file backends only, FFmpeg first") {
