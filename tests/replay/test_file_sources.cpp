@@ -3,6 +3,7 @@
 // MJPEG frame, 8- and 16-bit PNG as GREY/Y16), directories and globs in name order, video files
 // through OpenCV (the decoder module, loaded on demand), and clear errors for unreadable or missing
 // files and a missing module.
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -435,4 +436,19 @@ TEST_CASE("the build tree's decoder module is found and is of this version") {
     auto decoders = replay::loadDecoders("reading video files");
     REQUIRE(decoders.ok());
     CHECK((*decoders)->abi == replay::kDecodersAbi);
+}
+
+TEST_CASE("a FIFO or a device as a file source is refused, not waited on or read without end") {
+    const test::ScratchDir scratch("infocus-test-files-");
+    const std::string fifo = scratch.file("pipe.y4m");
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    // Before the check, opening the FIFO blocked until a writer came (never, here).
+    auto src = openPath(fifo);
+    REQUIRE(!src.ok());
+    REQUIRE(src.error().kind != ErrorKind::Usage);
+    REQUIRE_THAT(src.error().message, Catch::Contains("pipe.y4m") && Catch::Contains("FIFO"));
+    auto dev = openPath("/dev/zero");
+    REQUIRE(!dev.ok());
+    REQUIRE_THAT(dev.error().message,
+                 Catch::Contains("/dev/zero") && Catch::Contains("character device"));
 }
