@@ -6,7 +6,8 @@ set -euo pipefail
 
 pkgs=(meson ninja-build pkg-config g++ clang-format
 	libopencv-dev libcamera-dev catch2 libturbojpeg0-dev libjpeg-dev
-	libcli11-dev nlohmann-json3-dev libncurses-dev tmux)
+	libcli11-dev nlohmann-json3-dev libncurses-dev tmux
+	clang libclang-rt-dev) # clang: the fuzzers (scripts/fuzz.sh) and --sanitize=clang
 if [[ "${1:-}" == "--vm" ]]; then
 	pkgs+=(qemu-system-x86 linux-image-amd64 busybox-static v4l-utils cpio
 		linux-source-6.1 libcamera-ipa libcamera-tools udev xz-utils make bc
