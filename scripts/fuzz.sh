@@ -45,7 +45,7 @@ run() {  # run HARNESS: one harness, its summary line to $results/HARNESS
 	local rc=$?
 	local stats execs cov ft
 	stats=$(grep -E '^#[0-9]+' "$builddir/fuzz-$h.log" | tail -1)
-	execs=$(grep -E '^stat::number_of_executed_units' "$builddir/fuzz-$h.log" | awk '{print $2}')
+	execs=$(grep -E '^stat::number_of_executed_units' "$builddir/fuzz-$h.log" | tail -1 | awk '{print $2}')
 	cov=$(sed -nE 's/.* cov: ([0-9]+).*/\1/p' <<<"$stats")
 	ft=$(sed -nE 's/.* ft: ([0-9]+).*/\1/p' <<<"$stats")
 	local finding=none

@@ -14,7 +14,9 @@
 namespace infocus::fuzz {
 
 const std::string& scratchDir() {
-    static const std::string dir = [] {
+    // Never destroyed: the handler that removes the directory at exit runs after the
+    // destructors of statics constructed before it was registered.
+    static const std::string* const dir = [] {
         std::string pattern = (access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp");
         pattern += "/infocus-fuzz-XXXXXX";
         if (!mkdtemp(pattern.data())) {
@@ -22,9 +24,9 @@ const std::string& scratchDir() {
             std::abort();
         }
         std::atexit([] { std::filesystem::remove_all(scratchDir()); });
-        return pattern;
+        return new std::string(pattern);
     }();
-    return dir;
+    return *dir;
 }
 
 void writeFile(const std::string& path, const uint8_t* data, size_t size) {
