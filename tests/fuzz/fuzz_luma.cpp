@@ -76,8 +76,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     LumaConverter luma;
     const bool consistent = luma.toLuma8(f).ok();
     (void)luma.toLuma16(f);
-    // copyFrame allocates the frame the header claims before it copies what the planes hold:
-    // only frames a converter accepts, or small ones, so that each run stays fast.
-    if (consistent || int64_t{f.size.width} * f.size.height <= 1 << 16) (void)copyFrame(f);
+    // copyFrame allocates the frame the header claims (stride × height) before it copies what
+    // the planes hold: only frames a converter accepts, or small ones, so that each run stays
+    // fast (a 1 × 24672 frame with a 41985-byte stride took a gigabyte).
+    const int64_t claimed = int64_t{f.size.height} * static_cast<int64_t>(f.planes[0].stride);
+    if (consistent || (int64_t{f.size.width} * f.size.height <= 1 << 16 && claimed <= 1 << 20))
+        (void)copyFrame(f);
     return 0;
 }
