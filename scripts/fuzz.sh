@@ -51,7 +51,7 @@ run() {  # run HARNESS: one harness, its summary line to $results/HARNESS
 	local finding=none
 	[[ $rc -eq 0 ]] || finding=$(ls "$artifacts" | head -1)
 	echo "$h ${execs:-0} ${cov:-?} ${ft:-?} $(ls "$corpus" | wc -l) ${finding:-exit-$rc} $rc" >"$results/$h"
-	echo "fuzz_$h: ${execs:-0} executions in ${seconds} s, cov ${cov:-?}, ft ${ft:-?}, findings: ${finding:-exit $rc} ($builddir/fuzz-$h.log)"
+	echo "fuzz_$h: ${execs:-0} executions (up to ${seconds} s), cov ${cov:-?}, ft ${ft:-?}, findings: ${finding:-exit $rc} ($builddir/fuzz-$h.log)"
 }
 
 running=0
