@@ -136,6 +136,17 @@ Result<std::unique_ptr<FrameSource>> openPathSource(const SourceSpec& spec) {
                              " does not exist; give an existing recording, video, image, "
                              "directory or glob, or a camera (v4l2:, libcamera:, sim:)");
     }
+    // A FIFO would block open() until a writer comes, a device would be read without end:
+    // every file source reads a file it can measure and seek.
+    if (struct stat st; ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+        return makeError(ErrorKind::Unsupported,
+                         "cannot read " + path + ": it is " +
+                             (S_ISFIFO(st.st_mode)   ? "a FIFO (named pipe)"
+                              : S_ISCHR(st.st_mode)  ? "a character device"
+                              : S_ISBLK(st.st_mode)  ? "a block device"
+                              : S_ISSOCK(st.st_mode) ? "a socket"
+                                                     : "not a regular file") +
+                             "; give a recording, Y4M, image or video file");
     const std::string ext = extension(path);
     if (ext == "y4m") {
         auto options = parsePlaybackOptions(spec);

@@ -8,7 +8,8 @@ pkgs=(meson ninja-build pkg-config g++ clang-format
 	libopencv-dev libcamera-dev catch2 libturbojpeg0-dev libjpeg-dev libpng-dev
 	libcli11-dev nlohmann-json3-dev libncurses-dev tmux libcpp-httplib-dev
 	chromium chromium-driver python3-selenium
-	libsdl2-dev libimgui-dev xvfb x11-apps imagemagick)
+	libsdl2-dev libimgui-dev xvfb x11-apps imagemagick
+	clang libclang-rt-dev) # clang: the fuzzers (scripts/fuzz.sh) and --sanitize=clang
 if [[ "${1:-}" == "--vm" ]]; then
 	pkgs+=(qemu-system-x86 linux-image-amd64 busybox-static v4l-utils cpio
 		linux-source-6.1 libcamera-ipa libcamera-tools udev xz-utils make bc

@@ -2,6 +2,10 @@
 # Installs what is missing, builds, and runs every test. Ends with "N passed, N failed".
 #   scripts/test.sh              unit, integration, CLI and style tests (build/)
 #   scripts/test.sh --sanitize   the same under AddressSanitizer + UBSan (build-asan/)
+#   scripts/test.sh --sanitize=clang   the same built by clang (build-asan-clang/), whose UBSan
+#                                also checks float-to-integer casts that GCC's lets pass
+# Without --sanitize, a brief run of every fuzzer (scripts/fuzz.sh 30, two at once) follows the
+# unit tests when clang and libclang-rt-dev are there; it counts as one test in the closing line.
 # After the unit tests it runs the real-driver tier (tests/vm/run.sh: vivid and vimc in qemu) and
 # counts its parts in the closing line; INFOCUS_NO_VM=1 leaves it out (it is left out under
 # --sanitize and when a camera backend is disabled).
@@ -14,14 +18,23 @@ builddir=build
 opts=(${INFOCUS_MESON_OPTS:-})
 vm=${INFOCUS_NO_VM:+no}
 [[ "${INFOCUS_MESON_OPTS:-}" == *disabled* ]] && vm=no
-if [[ "${1:-}" == "--sanitize" ]]; then
+fuzz=yes
+if [[ "${1:-}" == --sanitize* ]]; then
 	vm=no
+	fuzz=no
 	builddir=build-asan
 	# lundef=false: the sanitizer runtimes resolve symbols at load time.
-	# GCC 12 reports a false maybe-uninitialized inside libstdc++'s std::regex (used by Catch2)
-	# once the sanitizers change inlining: that one warning is not an error there.
-	opts+=(-Db_sanitize=address,undefined -Db_lundef=false -Dbuildtype=debugoptimized
-		-Dcpp_args=-Wno-maybe-uninitialized)
+	opts+=(-Db_sanitize=address,undefined -Db_lundef=false -Dbuildtype=debugoptimized)
+	if [[ "$1" == --sanitize=clang ]]; then
+		builddir=build-asan-clang
+		export CC=clang CXX=clang++
+		# werror off: clang warns where GCC, the compiler of every other build, does not.
+		opts+=(-Dcpp_args=-fsanitize=float-cast-overflow -Dwerror=false)
+	else
+		# GCC 12 reports a false maybe-uninitialized inside libstdc++'s std::regex (used by
+		# Catch2) once the sanitizers change inlining: that one warning is not an error there.
+		opts+=(-Dcpp_args=-Wno-maybe-uninitialized)
+	fi
 	export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 	# Full stacks, so that leaks inside third-party libraries match tests/lsan.supp.
 	export LSAN_OPTIONS=suppressions=$here/tests/lsan.supp:fast_unwind_on_malloc=0:print_suppressions=0
@@ -56,6 +69,15 @@ PY
 )
 passed=${passed:-0}
 failed=${failed:-1}
+if [[ $fuzz == yes ]]; then
+	echo "== fuzzers, 30 s each (scripts/fuzz.sh) =="
+	FUZZ_JOBS=2 scripts/fuzz.sh 30
+	case $? in
+	0) passed=$((passed + 1)) ;;
+	77) skipped=$((${skipped:-0} + 1)) ;;
+	*) failed=$((failed + 1)) status=1 ;;
+	esac
+fi
 if [[ "$vm" != no ]]; then
 	echo "== real-driver tier (tests/vm/run.sh) =="
 	# Through a file, not tee: stdout may itself be a file that a reopen would truncate.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Image files other than JPEG, decoded by OpenCV's imgcodecs as GREY or, 16-bit, Y16. Part of
 // the decoder module.
+#include <cstdint>
 #include <cstring>
 #include <opencv2/imgcodecs.hpp>
 
@@ -29,7 +30,10 @@ Result<Frame> decodeImage(const std::vector<uint8_t>& bytes, const std::string& 
             return int64_t{bytes[at]} << 24 | int64_t{bytes[at + 1]} << 16 |
                    int64_t{bytes[at + 2]} << 8 | int64_t{bytes[at + 3]};
         };
-        if (!withinFrameLimit(be32(16), be32(20))) return tooLarge(be32(16), be32(20));
+        // The fields are 32-bit unsigned; withinFrameLimit takes sides up to INT32_MAX (a
+        // header of 3873892070 x 3873892070 overflowed its product).
+        const int64_t w = be32(16), h = be32(20);
+        if (w > INT32_MAX || h > INT32_MAX || !withinFrameLimit(w, h)) return tooLarge(w, h);
     }
     cv::Mat m;
     try {

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <opencv2/videoio/registry.hpp>
+#include <optional>
 
 #include "replay/decoders/decoders.h"
 #include "replay/file_readers.h"
@@ -64,8 +65,11 @@ public:
             next_ = i;
         }
         cv::Mat bgr;
-        if (!cap_.read(bgr) || bgr.empty())
+        if (!cap_.read(bgr) || bgr.empty()) {
+            // Short of the container's count: the rest is missing, said once at the end.
+            if (count_ < SIZE_MAX / 2 && (!decodedTo_ || i < *decodedTo_)) decodedTo_ = i;
             return makeError(ErrorKind::EndOfStream, "end of video " + path_);
+        }
         ++next_;
         cv::Mat grey;
         if (bgr.channels() == 3)
@@ -85,6 +89,16 @@ public:
         return frame;
     }
 
+    std::optional<Error> trailingError() const override {
+        if (!decodedTo_) return std::nullopt;
+        const size_t missing = count_ - *decodedTo_;
+        return makeError(ErrorKind::Corrupt,
+                         "video " + path_ + ": its container lists " + std::to_string(count_) +
+                             " frames, " + std::to_string(missing) + " of them (frames " +
+                             std::to_string(*decodedTo_) + " to " + std::to_string(count_ - 1) +
+                             ") could not be decoded; the file is truncated or damaged");
+    }
+
 private:
     VideoReader() = default;
     cv::VideoCapture cap_;
@@ -93,6 +107,7 @@ private:
     size_t count_ = 0;
     size_t next_ = 0;
     Size size_;
+    std::optional<size_t> decodedTo_;  ///< the first frame that did not decode, if any
 };
 
 }  // namespace

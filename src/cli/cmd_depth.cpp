@@ -88,7 +88,7 @@ int runDepth(const DepthArgs& args) {
     if (!values) return reportError(kName, values.error());
     if (const std::string u = depthMapOptionsUsage(args.depth); !u.empty())
         return usageError(kName, u);
-    uint64_t frames = 0;
+    uint64_t frames = 0, damaged = 0;
     bool warnedSharpened = false;
     const auto sink = [&](const FrameAnalysis& a) -> Status {
         ++frames;
@@ -123,7 +123,13 @@ int runDepth(const DepthArgs& args) {
         const auto onStart = [&](const SourceInfo& info, const AnalysisOptions& used) {
             noteTransfer(kName, info, used);
         };
-        if (const Status st = analyzeSource(args.input, options, args.frames, sink, {}, onStart);
+        // Damaged frames were skipped without a word: said as analyze says them, and exit 1.
+        const auto onDamaged = [&](const Error& e) {
+            ++damaged;
+            std::cerr << "infocus depth: skipped a damaged frame: " << e.message << "\n";
+        };
+        if (const Status st =
+                analyzeSource(args.input, options, args.frames, sink, onDamaged, onStart);
             !st)
             return reportError(kName, st.error());
     }
@@ -132,6 +138,10 @@ int runDepth(const DepthArgs& args) {
             kName, makeError(ErrorKind::Corrupt, "'" + args.input +
                                                      "' held no frame; give 'infocus analyze' "
                                                      "output or a source that delivers frames"));
+    if (damaged) {
+        std::cerr << "infocus depth: " << damaged << " damaged frame(s) skipped\n";
+        return kExitFailure;
+    }
     return 0;
 }
 

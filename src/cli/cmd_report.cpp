@@ -132,7 +132,8 @@ int runReport(const ReportArgs& args) {
               << " KiB)\n";
     if (damaged) std::cerr << "infocus report: " << damaged << " damaged frame(s) skipped\n";
     if (!st) return reportError(kName, st.error());
-    return 0;
+    // As analyze: the report of the intact frames is written, the damage still fails the run.
+    return damaged ? kExitFailure : 0;
 }
 
 }  // namespace

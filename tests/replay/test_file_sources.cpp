@@ -3,11 +3,14 @@
 // MJPEG frame, 8- and 16-bit PNG as GREY/Y16), directories and globs in name order, video files
 // through OpenCV (the decoder module, loaded on demand), and clear errors for unreadable or missing
 // files and a missing module.
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 #include <string>
@@ -348,6 +351,52 @@ TEST_CASE("video files play through OpenCV as GREY frames") {
     REQUIRE_THAT(bad.error().message, Catch::Contains("clip.avi.bin"));
 }
 
+TEST_CASE("a truncated video reports the frames its container lists but that did not decode") {
+    const test::ScratchDir scratch("infocus-test-files-");
+    const std::string path = scratch.file("cut.avi");
+    {
+        cv::VideoWriter vw(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10.0, {64, 48});
+        REQUIRE(vw.isOpened());
+        for (int f = 0; f < 10; ++f)
+            vw.write(cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(20 * f)));
+    }
+    // Cut the file just after its first frame's chunk ("00dc" in the "movi" list): the header
+    // still lists 10.
+    std::string bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const size_t first = bytes.find("00dc", bytes.find("movi"));
+    REQUIRE(first != std::string::npos);
+    const size_t second = bytes.find("00dc", first + 4);
+    REQUIRE(second != std::string::npos);
+    std::filesystem::resize_file(path, second);
+    auto src = openPath(path);
+    REQUIRE(src.ok());
+    REQUIRE((*src)->info().frameCount == 10);
+    int errors = 0;
+    std::vector<std::string> messages;
+    REQUIRE((*src)->start().ok());
+    size_t frames = 0;
+    while (true) {
+        auto f = (*src)->next();
+        if (!f && f.error().kind == ErrorKind::EndOfStream) break;
+        if (f) {
+            ++frames;
+            continue;
+        }
+        ++errors;
+        messages.push_back(f.error().message);
+        REQUIRE(f.error().kind == ErrorKind::Corrupt);
+    }
+    // The frame before the cut decodes; the nine after it are reported once, by file name.
+    REQUIRE(frames == 1);
+    REQUIRE(errors == 1);
+    REQUIRE_THAT(messages[0], Catch::Contains("cut.avi") && Catch::Contains("lists 10 frames") &&
+                                  Catch::Contains("9 of them"));
+}
+
 TEST_CASE("a video file is offered to OpenCV's file backends only, FFmpeg first") {
     const std::vector<int> apis = replay::videoFileBackends();
     REQUIRE(!apis.empty());
@@ -387,4 +436,19 @@ TEST_CASE("the build tree's decoder module is found and is of this version") {
     auto decoders = replay::loadDecoders("reading video files");
     REQUIRE(decoders.ok());
     CHECK((*decoders)->abi == replay::kDecodersAbi);
+}
+
+TEST_CASE("a FIFO or a device as a file source is refused, not waited on or read without end") {
+    const test::ScratchDir scratch("infocus-test-files-");
+    const std::string fifo = scratch.file("pipe.y4m");
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    // Before the check, opening the FIFO blocked until a writer came (never, here).
+    auto src = openPath(fifo);
+    REQUIRE(!src.ok());
+    REQUIRE(src.error().kind != ErrorKind::Usage);
+    REQUIRE_THAT(src.error().message, Catch::Contains("pipe.y4m") && Catch::Contains("FIFO"));
+    auto dev = openPath("/dev/zero");
+    REQUIRE(!dev.ok());
+    REQUIRE_THAT(dev.error().message,
+                 Catch::Contains("/dev/zero") && Catch::Contains("character device"));
 }
