@@ -476,6 +476,11 @@ private:
             std::lock_guard lock(mutex_);
             s->dropped = dropped_;
             s->skipped = skipped_;
+            if (afDoneAfter_ && c.serial > *afDoneAfter_) {
+                autofocusRunning_ = false;
+                status_ = afResult_;
+                afDoneAfter_.reset();
+            }
             s->autofocusRunning = autofocusRunning_;
             s->status = status_;
             state_ = std::move(s);
@@ -542,10 +547,19 @@ private:
         } else {
             msg = "autofocus failed: " + r.error().message;
         }
+        // The sweep ends with the lens at its best; the run counts as over only once a frame
+        // captured after that move (and its settling) is published, so that no state says
+        // "done" beside the lens where it was before.
+        const int settle = control_->settleFrames();
         std::lock_guard lock(mutex_);
-        autofocusRunning_ = false;
         afSlot_.reset();
-        status_ = msg;
+        afResult_ = msg;
+        afDoneAfter_ = captureSerial_ + static_cast<uint64_t>(std::max(settle, 0));
+        if (captureEnded_) {
+            autofocusRunning_ = false;
+            status_ = afResult_;
+            afDoneAfter_.reset();
+        }
     }
 
     std::unique_ptr<FrameSource> source_;
@@ -579,6 +593,8 @@ private:
     std::shared_ptr<const LiveState> state_;
     std::string status_;
     bool autofocusRunning_ = false;
+    std::optional<uint64_t> afDoneAfter_;  // the sweep has ended; frames after this one show it
+    std::string afResult_;                 // its outcome, for the status once it shows
     bool resetPeak_ = false;
     PeakingMode peaking_;
     std::optional<Rect> scoreRoi_;
