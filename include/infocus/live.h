@@ -79,8 +79,9 @@ struct LiveRegion {
     int col = 0, row = 0;
     Rect rect;
     double sharpness = 0.0;
-    std::optional<double> blurPx;  ///< disc diameter, pixels; empty without a usable edge
-    double confidence = 0.0;       ///< 0–1 trust in blurPx
+    std::optional<double> blurPx;            ///< disc diameter, pixels; empty without a usable edge
+    double confidence = 0.0;                 ///< 0–1 trust in blurPx
+    RegionStatus status = RegionStatus::Ok;  ///< Dark or Clipped: no score or blur to show
 };
 
 /// One point of the score history.

@@ -89,9 +89,10 @@ std::string liveStateJson(const LiveState& s) {
                            {"y", r.rect.y},
                            {"w", r.rect.w},
                            {"h", r.rect.h},
-                           {"sharpness", r.sharpness},
+                           {"sharpness", r.status == RegionStatus::Ok ? Json(r.sharpness) : Json()},
                            {"blur_px", number(r.blurPx)},
-                           {"confidence", r.confidence}});
+                           {"confidence", r.confidence},
+                           {"status", std::string(regionStatusName(r.status))}});
     j["regions"] = std::move(regions);
     j["peaking"] = std::string(peakingModeName(s.peaking));
     j["roi"] = s.scoreRoi ? Json{s.scoreRoi->x, s.scoreRoi->y, s.scoreRoi->w, s.scoreRoi->h}

@@ -249,4 +249,17 @@ TEST_CASE("live JSON: the web view's fields, null where a state has none") {
     CHECK(full["magnifier"] == Json({{"x", 960}, {"y", 540}, {"zoom", 2}}));
     CHECK(full["preview"] == Json({{"width", 960}, {"height", 540}}));
     CHECK(full["in_focus_line"]["y1"].get<double>() == Approx(20.25).margin(1e-12));
+
+    // A region too dark to measure: its status, and no score standing in for one.
+    LiveRegion ok, dark;
+    ok.sharpness = 0.5;
+    dark.col = 1;
+    dark.status = RegionStatus::Dark;
+    s.regions = {ok, dark};
+    Json regions = Json::parse(liveStateJson(s))["regions"];
+    REQUIRE(regions.size() == 2);
+    CHECK(regions[0]["status"] == "ok");
+    CHECK(regions[0]["sharpness"].get<double>() == Approx(0.5).margin(1e-12));
+    CHECK(regions[1]["status"] == "dark");
+    CHECK(regions[1]["sharpness"].is_null());
 }

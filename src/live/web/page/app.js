@@ -240,8 +240,18 @@ function drawHeat(g, s, k, dpr) {
   g.textAlign = "center";
   g.textBaseline = "middle";
   for (const r of s.regions || []) {
-    if (r.blur_px == null || r.confidence < 0.25) continue;
     const x = r.x * k, y = r.y * k, w = r.w * k, h = r.h * k;
+    // Too dark or clipped to measure: say so rather than leave the cell looking untextured.
+    if (r.status && r.status !== "ok") {
+      g.fillStyle = "rgba(60,60,70,0.45)";
+      g.fillRect(x, y, w, h);
+      if (w >= 28 * dpr && h >= 12 * dpr) {
+        g.fillStyle = "#ccc";
+        g.fillText(r.status === "dark" ? "dark" : "clip", x + w / 2, y + h / 2);
+      }
+      continue;
+    }
+    if (r.blur_px == null || r.confidence < 0.25) continue;
     g.fillStyle = blurColour(r.blur_px, coc, 0.28);
     g.fillRect(x, y, w, h);
     if (w >= 20 * dpr && h >= 12 * dpr) {
