@@ -430,6 +430,52 @@ def test_sixteen_clients():
     live.stop()
 
 
+def test_slow_clients():
+    # Two stream clients that stop reading and one that stalls inside its request line: a
+    # reading client still gets frames at the pipeline's rate, /state answers, nothing drops.
+    live = Live('sim:size=1280x720,fps=30')
+    live.wait_state(lambda s: True)
+    stalled = []
+    for _ in range(2):
+        sk = socket.create_connection((live.host, live.port))
+        sk.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        sk.sendall(('GET %s HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n' %
+                    live.path('/stream.mjpg')).encode())
+        stalled.append(sk)
+    loris = socket.create_connection((live.host, live.port))
+    loris.sendall(b'GET /state HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ')
+    c, r = open_stream(live)
+    frames, t0 = [], time.monotonic()
+    while time.monotonic() - t0 < 4:
+        headers, _ = read_part(r)
+        frames.append(int(headers['x-frame']))
+    c.close()
+    fps = len(frames) / 4
+    t1 = time.monotonic()
+    s = live.state()
+    state_s = time.monotonic() - t1
+    check(fps >= 20, 'slow clients: a reading client still gets %.1f fps (>= 20)' % fps)
+    check(s is not None and state_s < 1.0,
+          'slow clients: /state answers in %.3f s (< 1 s)' % state_s)
+    check(s is not None and s['dropped'] == 0,
+          'slow clients: the pipeline dropped %s frames (0)' % (s or {}).get('dropped'))
+    # The stalled request line is cut by the server's read time-out (2 s), not held open.
+    loris.settimeout(5)
+    closed = False
+    try:
+        while loris.recv(4096):  # an error status first is fine; the end is what counts
+            pass
+        closed = True
+    except ConnectionResetError:
+        closed = True
+    except socket.timeout:
+        pass
+    check(closed, 'slow clients: a request stalled mid-header is closed by the server')
+    for sk in stalled + [loris]:
+        sk.close()
+    live.stop()
+
+
 def main():
     if len(sys.argv) < 3 or sys.argv[2] != 'true':
         print('skipped: infocus was built without the web view (meson feature web, '
@@ -440,6 +486,7 @@ def main():
     test_no_motor()
     test_token()
     test_sixteen_clients()
+    test_slow_clients()
     print('%d failure(s)' % len(failures))
     sys.exit(1 if failures else 0)
 
