@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -72,9 +74,12 @@ std::string_view stackRegionStatusName(StackRegionStatus s) {
 
 Result<std::vector<LensPosition>> readPositionsCsv(const std::string& path) {
     std::ifstream in(path);
-    if (!in)
+    if (!in) {
+        const int err = errno;
         return makeError(ErrorKind::NotFound, "cannot read the positions file '" + path +
-                                                  "'; give a CSV of frame,position,unit rows");
+                                                  "': " + std::strerror(err) +
+                                                  "; give a CSV of frame,position,unit rows");
+    }
     std::map<long, LensPosition> rows;
     std::string line;
     for (int number = 1; std::getline(in, line); ++number) {
