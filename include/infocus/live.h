@@ -82,6 +82,10 @@ struct LiveRegion {
     std::optional<double> blurPx;            ///< disc diameter, pixels; empty without a usable edge
     double confidence = 0.0;                 ///< 0–1 trust in blurPx
     RegionStatus status = RegionStatus::Ok;  ///< Dark or Clipped: no score or blur to show
+    /// The two object distances whose blur equals blurPx (in front of and behind the in-focus
+    /// plane; far may be ∞ or absent), with lens data and a confident blur: a width alone
+    /// cannot tell which side the region is on.
+    std::optional<double> depthNearM, depthFarM;
 };
 
 /// One point of the score history.

@@ -83,16 +83,19 @@ std::string liveStateJson(const LiveState& s) {
     j["grid"] = {s.cols, s.rows};
     Json regions = Json::array();
     for (const LiveRegion& r : s.regions)
-        regions.push_back({{"col", r.col},
-                           {"row", r.row},
-                           {"x", r.rect.x},
-                           {"y", r.rect.y},
-                           {"w", r.rect.w},
-                           {"h", r.rect.h},
-                           {"sharpness", r.status == RegionStatus::Ok ? Json(r.sharpness) : Json()},
-                           {"blur_px", number(r.blurPx)},
-                           {"confidence", r.confidence},
-                           {"status", std::string(regionStatusName(r.status))}});
+        regions.push_back(
+            {{"col", r.col},
+             {"row", r.row},
+             {"x", r.rect.x},
+             {"y", r.rect.y},
+             {"w", r.rect.w},
+             {"h", r.rect.h},
+             {"sharpness", r.status == RegionStatus::Ok ? Json(r.sharpness) : Json()},
+             {"blur_px", number(r.blurPx)},
+             {"confidence", r.confidence},
+             {"status", std::string(regionStatusName(r.status))},
+             {"depth_m",
+              r.depthNearM ? Json::array({number(r.depthNearM), number(r.depthFarM)}) : Json()}});
     j["regions"] = std::move(regions);
     j["peaking"] = std::string(peakingModeName(s.peaking));
     j["roi"] = s.scoreRoi ? Json{s.scoreRoi->x, s.scoreRoi->y, s.scoreRoi->w, s.scoreRoi->h}

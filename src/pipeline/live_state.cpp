@@ -60,6 +60,18 @@ void fillRegionsAndOptics(const FrameAnalysis& a, const LiveOptions& o,
     if (L.lens && pitch) s.diffractionPx = 2.44 * kWavelengthM * L.lens->fNumber / *pitch;
     s.regionsInCoc = static_cast<int>(
         std::count_if(blurs.begin(), blurs.end(), [&](double b) { return b <= s.cocPx; }));
+    // Each confident region's two candidate distances, the diffraction blur removed as the
+    // in-focus floor.
+    if (L.lens && pitch && focusDistanceM)
+        for (LiveRegion& r : s.regions) {
+            if (!r.blurPx || r.confidence < kConfident) continue;
+            const double floor = s.diffractionPx ? *s.diffractionPx * *pitch : 0.0;
+            if (auto roots =
+                    optics::depthFromBlur(*L.lens, *focusDistanceM, *r.blurPx * *pitch, floor)) {
+                r.depthNearM = roots->nearRoot;
+                r.depthFarM = roots->farRoot;
+            }
+        }
 
     // Without a circle of confusion of its own, the depth of field is that of the default one
     // in pixels (cocFromLens says which).

@@ -253,6 +253,8 @@ TEST_CASE("live JSON: the web view's fields, null where a state has none") {
     // A region too dark to measure: its status, and no score standing in for one.
     LiveRegion ok, dark;
     ok.sharpness = 0.5;
+    ok.depthNearM = 0.7;
+    ok.depthFarM = std::numeric_limits<double>::infinity();
     dark.col = 1;
     dark.status = RegionStatus::Dark;
     s.regions = {ok, dark};
@@ -262,4 +264,6 @@ TEST_CASE("live JSON: the web view's fields, null where a state has none") {
     CHECK(regions[0]["sharpness"].get<double>() == Approx(0.5).margin(1e-12));
     CHECK(regions[1]["status"] == "dark");
     CHECK(regions[1]["sharpness"].is_null());
+    CHECK(regions[0]["depth_m"] == Json({0.7, "inf"}));
+    CHECK(regions[1]["depth_m"].is_null());
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The live pipeline closed-loop on the simulated camera, whose true focus is known: a 16 mm f/1.4
 // lens, a textured plane at 1 m (1 dioptre), the lens starting at 0.5 m (2 dioptres).
+#include <algorithm>
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -185,6 +186,32 @@ TEST_CASE("the live state counts frames and reports the optics it knows") {
           "\"latency_p99_ms\"", "\"score\"", "\"peak\"", "\"percent_of_peak\"", "\"trend\"",
           "\"blur_px\"", "\"lens_position\"", "\"in_focus_distance_m\"", "\"regions\""})
         CHECK(json.find(field) != std::string::npos);
+    (*p)->stop();
+}
+
+TEST_CASE("each region's blur gives its two candidate distances, one of them the plane's") {
+    // The plane at 1 m with the lens at 0.8 m: every region blurs ~9.6 px; its far root must be
+    // the plane (the thin lens inverted; 5 % allows the engine's ±5 % on the disc).
+    LiveOptions o;
+    o.analysis.cols = 8;
+    o.analysis.rows = 6;
+    o.lens.lens = optics::ThinLens{16e-3, 1.4};
+    o.lens.pixelPitchM = 1.4e-6 * 4608 / 1280;
+    auto p = LivePipeline::open("sim:focal=16mm,fnumber=1.4,distance=1m,focus=0.8m", o);
+    REQUIRE(p);
+    REQUIRE((*p)->start());
+    auto states = nextStates(**p, 10);
+    const LiveState& s = *states.back();
+    std::vector<double> fars;
+    for (const LiveRegion& r : s.regions)
+        if (r.depthNearM) {
+            CHECK(*r.depthNearM < 0.8);
+            REQUIRE(r.depthFarM);
+            fars.push_back(*r.depthFarM);
+        }
+    REQUIRE(fars.size() >= 16);
+    std::sort(fars.begin(), fars.end());
+    CHECK(fars[fars.size() / 2] == Approx(1.0).epsilon(0.05));
     (*p)->stop();
 }
 

@@ -511,6 +511,20 @@ function drawDof(s) {
   g.fillStyle = "rgba(61,220,132,0.8)";
   const x0 = X(s.dof_near_m), x1 = Number.isFinite(far) ? X(far) : c.width - pad;
   g.fillRect(x0, mid - 6 * dpr, Math.max(2 * dpr, x1 - x0), 12 * dpr);
+  // Each region's depth as a dot: a blur width has two candidate distances, in front of the
+  // in-focus plane (filled, above the axis) and behind it (hollow, below).
+  for (const r of s.regions || []) {
+    if (!r.depth_m) continue;
+    const [near, farRoot] = r.depth_m;
+    g.fillStyle = "rgba(120,190,255,0.7)";
+    g.beginPath(); g.arc(X(near), mid - 9 * dpr, 2.5 * dpr, 0, 2 * Math.PI); g.fill();
+    if (farRoot != null) {
+      const xf = farRoot === "inf" ? c.width - pad : X(farRoot);
+      g.strokeStyle = "rgba(120,190,255,0.7)";
+      g.lineWidth = dpr;
+      g.beginPath(); g.arc(xf, mid + 9 * dpr, 2.5 * dpr, 0, 2 * Math.PI); g.stroke();
+    }
+  }
   if (at != null) {
     const xa = Number.isFinite(at) ? X(at) : c.width - pad;
     g.fillStyle = "#fff";
