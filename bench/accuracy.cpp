@@ -21,8 +21,8 @@ void runAccuracy(const AccuracySink& sink) {
         double lo, hi, tolerancePct;  // docs/design.md targets
     };
     const Case cases[] = {
-        {synth::PsfShape::Disc, {1, 2, 3, 4, 6, 8, 12, 16, 20, 25, 30}, 2.0, 30.0, 5.0},
-        {synth::PsfShape::Gaussian, {0.5, 0.7, 1, 1.5, 2, 3, 5, 7, 10}, 0.7, 10.0, 3.0},
+        {synth::PsfShape::Disc, {1, 2, 3, 4, 6, 8, 12, 16, 20, 25, 30, 40, 50, 60}, 2.0, 60.0, 5.0},
+        {synth::PsfShape::Gaussian, {0.5, 0.7, 1, 1.5, 2, 3, 5, 7, 10, 15, 20}, 0.7, 20.0, 3.0},
     };
     const float dark = 50.0f, bright = 200.0f;
     uint64_t seed = 1;
@@ -36,7 +36,8 @@ void runAccuracy(const AccuracySink& sink) {
                 row.inTarget = size >= c.lo && size <= c.hi;
                 row.tolerancePct = c.tolerancePct;
                 // Wide Gaussians need ±4σ of plateau around the edge: a larger frame.
-                const int frame = (c.shape == synth::PsfShape::Gaussian && size > 4) ? 256 : 192;
+                const double spread = c.shape == synth::PsfShape::Gaussian ? size : size / 4.0;
+                const int frame = spread > 15 ? 512 : spread > 7.5 ? 384 : spread > 4 ? 256 : 192;
                 for (double angle : accuracyAngles()) {
                     const synth::Psf psf{c.shape, size};
                     const synth::Edge e{angle, frame / 2.0, frame / 2.0, 0.37, dark, bright};

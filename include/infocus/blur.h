@@ -23,7 +23,7 @@ struct BlurOptions {
     /// region's smaller side, clamped to 8..48.
     double edgeHalfLengthPx = 0;
     /// Largest half-width sampled across an edge, px, 6..1024 (caps the blur).
-    double maxHalfWidthPx = 64;
+    double maxHalfWidthPx = 96;
     double binPx = 0.25;  ///< ESF bin width across the edge (slanted-edge oversampling), 1/16..1
     double minContrast = 12.0;  ///< grey levels between the two sides for an edge to count, 0..255
     double minGradient = 1.0;   ///< grey levels per pixel for an edge candidate, 0..1020
