@@ -9,6 +9,7 @@
 #include <string>
 
 #include "infocus/output.h"
+#include "json_fields.h"
 #include "src/core/read_number.h"
 
 namespace infocus {
@@ -56,12 +57,7 @@ std::string toJsonLine(const FrameAnalysis& a) {
     Json regions = Json::array();
     for (const auto& r : a.regions) {
         Json o;
-        o["col"] = r.col;
-        o["row"] = r.row;
-        o["x"] = r.rect.x;
-        o["y"] = r.rect.y;
-        o["w"] = r.rect.w;
-        o["h"] = r.rect.h;
+        output::putRegionPlace(o, r.col, r.row, r.rect);
         const bool ok = r.status == RegionStatus::Ok;
         o["sharpness"] = ok ? Json(r.sharpness) : Json(nullptr);
         o["edge_width_px"] = optionalNumber(ok ? r.edgeWidthPx : std::nullopt);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "infocus/output.h"
+#include "json_fields.h"
 #include "print.h"
 
 namespace infocus {
@@ -46,12 +47,7 @@ std::string depthJsonLine(const FrameAnalysis& a, const DepthMap& map, const Dep
     for (const auto& d : map.regions) {
         const RegionResult& r = a.regions[d.region];
         Json o;
-        o["col"] = r.col;
-        o["row"] = r.row;
-        o["x"] = r.rect.x;
-        o["y"] = r.rect.y;
-        o["w"] = r.rect.w;
-        o["h"] = r.rect.h;
+        output::putRegionPlace(o, r.col, r.row, r.rect);
         o["blur_width_px"] = metresOrNull(r.blurWidthPx);
         o["confidence"] = r.confidence;
         o["status"] = regionStatusName(r.status);

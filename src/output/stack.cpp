@@ -6,6 +6,7 @@
 #include <string>
 
 #include "infocus/output.h"
+#include "json_fields.h"
 #include "print.h"
 
 namespace infocus {
@@ -85,12 +86,7 @@ std::string stackJson(const StackResult& r, int indent) {
     Json regions = Json::array();
     for (const StackRegion& g : r.regions) {
         Json o;
-        o["col"] = g.col;
-        o["row"] = g.row;
-        o["x"] = g.rect.x;
-        o["y"] = g.rect.y;
-        o["w"] = g.rect.w;
-        o["h"] = g.rect.h;
+        output::putRegionPlace(o, g.col, g.row, g.rect);
         o["status"] = std::string(stackRegionStatusName(g.status));
         o["status_reason"] = g.statusReason.empty() ? Json(nullptr) : Json(g.statusReason);
         o["peak_frame"] = orNull(g.peakFrame);
