@@ -77,18 +77,55 @@ run f_lc infocus sweep libcamera:0 --steps 3 --refine 0 --grid 2x2 --no-blur --j
 run g_v4l2 infocus live "v4l2:$cap,size=320x180" --ui json --seconds 5
 run g_lc infocus live libcamera:0,size=720x480 --ui json --seconds 5
 
-# c. loopback: frames of known blur through vivid's output node into its capture node
+# c. loopback: frames of known blur through vivid's output node into its capture node. S-Video
+# takes only interlaced fields at NTSC size; with the same size, format and field on both sides
+# vivid copies the output buffer line by line, and then draws its OSD text over the top left.
 v4l2-ctl -d "$cap" -i 2 -c loop_video=1 --set-fmt-video=width=720,height=480,pixelformat=YUYV,field=interlaced
 v4l2-ctl -d "$out" -o 0 --set-fmt-video-out=width=720,height=480,pixelformat=YUYV,field=interlaced
-for s in 0 1 2 4; do
-	v4l2-ctl -d "$out" -o 0 --stream-out-mmap --stream-from=/data/blur$s.yuyv --stream-loop >/dev/null 2>&1 &
-	pid=$!
+v4l2-ctl -d "$cap" --get-fmt-video 2>&1 | sed 's/^/@@diag_c cap /'
+v4l2-ctl -d "$out" --get-fmt-video-out 2>&1 | sed 's/^/@@diag_c out /'
+
+# loop FILE: streams FILE out of the output node in the background (pid in $loop_pid).
+loop() {
+	v4l2-ctl -d "$out" -o 0 --stream-out-mmap --stream-from="$1" --stream-loop >/dev/null 2>&1 &
+	loop_pid=$!
 	sleep 1
-	# The first frames may predate the output stream: analyze a few and judge the last.
-	run c_$s infocus analyze "v4l2:$cap,input=2,format=YUYV,size=720x480" --frames 8 --grid 3x2
-	kill $pid
-	wait $pid 2>/dev/null
+}
+unloop() {
+	kill $loop_pid
+	wait $loop_pid 2>/dev/null
+}
+
+# The loop pixel by pixel: a known pattern written, one frame captured (after the first few, which
+# may predate the output stream), the differing bytes counted with where they lie; with vivid's
+# OSD text on (its default, mode 0) and off (mode 2).
+for osd in 0 2; do
+	v4l2-ctl -d "$cap" -c osd_text_mode=$osd
+	loop /data/blurprobe.yuyv
+	v4l2-ctl -d "$cap" --stream-mmap --stream-skip=3 --stream-count=1 --stream-to=/tmp/probe.yuyv >/dev/null 2>&1
+	unloop
+	echo "@@c_probe_$osd.size $(wc -c </tmp/probe.yuyv)"
+	cmp -l /data/blurprobe.yuyv /tmp/probe.yuyv 2>/dev/null | awk -v tag="c_probe_$osd" '
+		{ o = $1 - 1; r = int(o / 1440); c = int((o % 1440) / 2); n++
+		  if (n == 1) { r0 = r; r1 = r; c0 = c; c1 = c }
+		  if (r < r0) r0 = r; if (r > r1) r1 = r; if (c < c0) c0 = c; if (c > c1) c1 = c }
+		END { printf "@@%s.diff bytes=%d rows=%d-%d cols=%d-%d\n", tag, n, r0, r1, c0, c1 }'
+	rm -f /tmp/probe.yuyv
 done
+
+# The blur frames, OSD text off; one with it on, to show what the text does to the readings.
+for f in sharp g1 g2 g4 d4 d6 d8 osd_g2; do
+	case $f in
+	osd_*) v4l2-ctl -d "$cap" -c osd_text_mode=0 ;;
+	*) v4l2-ctl -d "$cap" -c osd_text_mode=2 ;;
+	esac
+	loop "/data/blur${f#osd_}.yuyv"
+	# Every region searched afresh each frame, as the host reads the same frames (run.sh).
+	run c_$f infocus analyze "v4l2:$cap,input=2,format=YUYV,size=720x480" --frames 8 --grid 3x2 \
+		--blur-search all
+	unloop
+done
+v4l2-ctl -d "$cap" -c osd_text_mode=0
 
 # d. faults on the webcam input: buffer errors and drops are counted; a disconnect ends the run
 v4l2-ctl -d "$cap" -i 0

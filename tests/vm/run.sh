@@ -42,7 +42,7 @@ rm -rf "$rd"
 mkdir -p "$rd"/{bin,sbin,etc,proc,sys,dev,tmp,run,mods,data}
 cp /bin/busybox "$rd/bin/busybox"
 for a in sh mount umount insmod sleep echo cat ls kill grep sed head tail wc rm mkdir poweroff \
-	seq cut tr ln sync dmesg; do ln -sf busybox "$rd/bin/$a"; done
+	seq cut tr ln sync dmesg cmp awk; do ln -sf busybox "$rd/bin/$a"; done
 
 copy_with_libs() {  # copies a program (unless it is in the initramfs already) and its libraries
 	local f=$1
@@ -88,7 +88,17 @@ done | awk '!seen[$0]++' | while read -r ko; do
 done
 strip --strip-debug -o "$rd/mods/vimc.ko" "$work/vimc-$kver/vimc.ko"
 
-"$build/tests/drivers/infocus_vm_blur_frames" "$rd/data/blur" 0 1 2 4 || die "cannot write the blur frames"
+# The loopback's frames (tests/vm/blur_frames.cpp), and the host's reading of the same pixels,
+# which the VM's reading through the driver must match.
+frames=(sharp g1 g2 g4 d4 d6 d8)
+mkdir -p "$work/frames"
+"$build/tests/drivers/infocus_vm_blur_frames" --y4m "$work/frames/blur" probe "${frames[@]}" ||
+	die "cannot write the blur frames"
+for f in probe "${frames[@]}"; do cp "$work/frames/blur$f.yuyv" "$rd/data/"; done
+for f in "${frames[@]}"; do
+	"$build/src/cli/infocus" analyze "$work/frames/blur$f.y4m" --grid 3x2 --blur-search all \
+		>"$work/frames/host_$f.jsonl" || die "the host cannot analyze $work/frames/blur$f.y4m"
+done
 cp "$here/init.sh" "$rd/init"
 chmod +x "$rd/init"
 (cd "$rd" && find . | cpio -o -H newc 2>/dev/null | gzip -1) >"$work/initrd.gz" || die "cannot pack the initramfs"
@@ -102,4 +112,4 @@ timeout 280 qemu-system-x86_64 -accel tcg -m 1024 -smp 2 -nographic -no-reboot \
 echo "vm: booted $kver, ran in $(($(date +%s) - start)) s; console log: $log" >&2
 grep -q "@@done" "$log" || echo "vm: the VM did not finish (timeout or crash); see $log" >&2
 
-python3 "$here/check.py" "$log"
+python3 "$here/check.py" "$log" "$work/frames"
