@@ -226,35 +226,38 @@ Status chooseAxis(StackResult& r, bool fromCsv) {
     return {};
 }
 
-// fitBlurV, then again without the readings whose residual is beyond kVOutlierSigmas robust σ
-// (1.4826·MAD of the residuals, at least 0.5 px): an edge the blur engine misread on one frame
-// (a width of twice its neighbours') otherwise moves the vertex by tenths of a frame.
-std::optional<BlurVFit> robustBlurV(std::vector<double> p, std::vector<double> b,
-                                    std::vector<double> w) {
-    constexpr double kVOutlierSigmas = 3.0;
+// fitBlurV as a Huber M-estimate (iteratively reweighted least squares): each reading keeps its
+// confidence as weight while its residual is within kHuberC robust σ (1.4826·MAD of the
+// residuals, at least 0.5 px) and is weighted down in proportion beyond. A region's readings come
+// from its strongest edges, which on a slanted surface lie at different depths from frame to
+// frame; a plain least-squares V lets those of an edge at the region's border pull the vertex
+// towards it, and hard clipping of outliers still keeps every reading it does not drop at full
+// weight.
+std::optional<BlurVFit> robustBlurV(const std::vector<double>& p, const std::vector<double>& b,
+                                    const std::vector<double>& w) {
+    constexpr double kHuberC = 1.345;  // 95 % efficiency on Gaussian residuals
+    constexpr int kPasses = 6;
     auto fit = fitBlurV(p, b, w);
-    for (int pass = 0; pass < 2 && fit; ++pass) {
-        std::vector<double> res;
-        for (size_t i = 0; i < p.size(); ++i)
-            if (w[i] > 0)
-                res.push_back(
-                    std::abs(b[i] - fit->slopePxPerUnit * std::abs(p[i] - fit->position)));
-        std::vector<double> sorted = res;
-        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-        const double limit = kVOutlierSigmas * std::max(0.5, 1.4826 * sorted[sorted.size() / 2]);
-        std::vector<double> p2, b2, w2;
-        for (size_t i = 0, k = 0; i < p.size(); ++i) {
-            if (!(w[i] > 0)) continue;
-            if (res[k++] > limit) continue;
-            p2.push_back(p[i]);
-            b2.push_back(b[i]);
-            w2.push_back(w[i]);
+    if (!fit) return fit;
+    std::vector<double> res(p.size()), sorted, w2(w);
+    // The RMS the fit reports is that of the down-weighted readings: the V's rise is judged
+    // against the scatter of the readings that place it.
+    for (int pass = 0; pass < kPasses; ++pass) {
+        sorted.clear();
+        for (size_t i = 0; i < p.size(); ++i) {
+            res[i] = std::abs(b[i] - fit->slopePxPerUnit * std::abs(p[i] - fit->position));
+            if (w[i] > 0) sorted.push_back(res[i]);
         }
-        if (p2.size() == p.size()) break;
-        auto refit = fitBlurV(p2, b2, w2);
+        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+        const double limit = kHuberC * std::max(0.5, 1.4826 * sorted[sorted.size() / 2]);
+        for (size_t i = 0; i < p.size(); ++i)
+            w2[i] = res[i] > limit ? w[i] * limit / res[i] : w[i];
+        auto refit = fitBlurV(p, b, w2);
         if (!refit) break;
+        const bool settled = std::abs(refit->position - fit->position) <=
+                             1e-6 * std::max(1.0, std::abs(fit->position));
         fit = refit;
-        p.swap(p2), b.swap(b2), w.swap(w2);
+        if (settled) break;
     }
     return fit;
 }
