@@ -29,11 +29,6 @@ namespace {
 constexpr double kMinRise = 0.1;
 // ... nor one whose rise is under this many times what white noise adds to its score.
 constexpr double kMinRiseOverNoise = 3.0;
-// A blur V whose arms rise over the stack by less than this many times its RMS residual is a
-// cloud of readings, not a V: its vertex is not reported.
-constexpr double kMinVRiseOverRms = 3.0;
-// Blur widths above this share of a region's shorter side are left out of its V.
-constexpr double kMaxBlurShare = 0.25;
 // Fewer measured frames than this make no curve.
 constexpr size_t kMinFrames = 3;
 
@@ -176,6 +171,13 @@ std::optional<double> StackResult::positionAt(double f) const {
     return axisAt(f);
 }
 
+double StackResult::blurModelPx(const BlurVFit& v, double x) const {
+    if (!blurPole) return std::hypot(v.slopePxPerUnit * (x - v.position), v.floorPx);
+    // The slope is the V's at its vertex: k·(p0 − pole)² over 1/(x − pole).
+    const double d0 = v.position - *blurPole;
+    return std::hypot(v.slopePxPerUnit * d0 * d0 * (1 / (x - *blurPole) - 1 / d0), v.floorPx);
+}
+
 StackAgreement stackAgreement(const StackResult& r) {
     StackAgreement a;
     for (const StackRegion& g : r.regions) {
@@ -226,57 +228,14 @@ Status chooseAxis(StackResult& r, bool fromCsv) {
     return {};
 }
 
-// fitBlurV as a Huber M-estimate (iteratively reweighted least squares): each reading keeps its
-// confidence as weight while its residual is within kHuberC robust σ (1.4826·MAD of the
-// residuals, at least 0.5 px) and is weighted down in proportion beyond. A region's readings come
-// from its strongest edges, which on a slanted surface lie at different depths from frame to
-// frame; a plain least-squares V lets those of an edge at the region's border pull the vertex
-// towards it, and hard clipping of outliers still keeps every reading it does not drop at full
-// weight.
-std::optional<BlurVFit> robustBlurV(const std::vector<double>& p, const std::vector<double>& b,
-                                    const std::vector<double>& w) {
-    constexpr double kHuberC = 1.345;  // 95 % efficiency on Gaussian residuals
-    constexpr int kPasses = 6;
-    auto fit = fitBlurV(p, b, w);
-    if (!fit) return fit;
-    std::vector<double> res(p.size()), sorted, w2(w);
-    // The RMS the fit reports is that of the down-weighted readings: the V's rise is judged
-    // against the scatter of the readings that place it.
-    for (int pass = 0; pass < kPasses; ++pass) {
-        sorted.clear();
-        for (size_t i = 0; i < p.size(); ++i) {
-            res[i] = std::abs(b[i] - fit->slopePxPerUnit * std::abs(p[i] - fit->position));
-            if (w[i] > 0) sorted.push_back(res[i]);
-        }
-        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-        const double limit = kHuberC * std::max(0.5, 1.4826 * sorted[sorted.size() / 2]);
-        for (size_t i = 0; i < p.size(); ++i)
-            w2[i] = res[i] > limit ? w[i] * limit / res[i] : w[i];
-        auto refit = fitBlurV(p, b, w2);
-        if (!refit) break;
-        const bool settled = std::abs(refit->position - fit->position) <=
-                             1e-6 * std::max(1.0, std::abs(fit->position));
-        fit = refit;
-        if (settled) break;
-    }
-    return fit;
-}
-
 // Fills a region's curves from the measured frames and finds its peaks.
 void assessRegion(StackRegion& g, const StackResult& r) {
     const size_t n = r.frames.size();
-    std::vector<double> x, y, bx, bw, bc;
+    std::vector<double> x, y;
     for (size_t i = 0; i < n; ++i) {
         if (!g.usable[i]) continue;
         x.push_back(r.axis[i]);
         y.push_back(g.sharpness[i]);
-        // A blur wider than a quarter of the region leaves no room for an edge's profile
-        // inside it: such a reading mixes in the neighbours' depths.
-        if (g.blurWidth[i] && *g.blurWidth[i] <= kMaxBlurShare * std::min(g.rect.w, g.rect.h)) {
-            bx.push_back(r.axis[i]);
-            bw.push_back(*g.blurWidth[i]);
-            bc.push_back(g.confidence[i]);
-        }
     }
     if (x.size() < kMinFrames) {
         g.status = g.status == StackRegionStatus::Ok ? StackRegionStatus::Dark : g.status;
@@ -304,14 +263,6 @@ void assessRegion(StackRegion& g, const StackResult& r) {
         return;
     }
     g.peak = findFocusPeak(x, y);
-    g.blurFit = robustBlurV(bx, bw, bc);
-    if (g.blurFit) {
-        double reach = 0;
-        for (double p : bx)
-            reach = std::max(reach, std::abs(p - g.blurFit->position));
-        if (!(g.blurFit->slopePxPerUnit * reach >= kMinVRiseOverRms * g.blurFit->rmsPx))
-            g.blurFit.reset();
-    }
     if (g.peak) {
         g.peakFrame = r.frameAt(g.peak->position);
         g.peakPosition = r.positionAt(*g.peakFrame);
@@ -319,6 +270,12 @@ void assessRegion(StackRegion& g, const StackResult& r) {
         if (g.peakDioptres)
             g.inFocusDistance = *g.peakDioptres > 0 ? 1 / *g.peakDioptres : HUGE_VAL;
     }
+}
+
+// Fits a textured region's blur V (stack_detail::fitRegionBlurV) and compares its vertex with
+// the sharpness peak.
+void assessBlur(StackRegion& g, const stack_detail::BlurReadings& readings, const StackResult& r) {
+    g.blurFit = stack_detail::fitRegionBlurV(readings, r);
     if (g.blurFit) g.blurPeakFrame = r.frameAt(g.blurFit->position);
     // A peak at the stack's first or last frame may lie beyond it, where a V (two readings on
     // each side of its vertex) cannot reach: there is nothing to compare.
@@ -491,6 +448,17 @@ Result<StackResult> analyzeStack(std::string_view source, const StackOptions& op
         assessRegion(g, r);
         r.regions.push_back(std::move(g));
     }
+    std::vector<stack_detail::BlurReadings> readings;
+    for (const StackRegion& g : r.regions)
+        readings.push_back(stack_detail::blurReadings(g, r));
+    if (r.axisUnit != "dioptre" && r.axisUnit != "frame") {
+        std::vector<stack_detail::BlurReadings> textured;
+        for (size_t k = 0; k < r.regions.size(); ++k)
+            if (r.regions[k].status == StackRegionStatus::Ok) textured.push_back(readings[k]);
+        r.blurPole = stack_detail::chooseBlurPole(textured, r);
+    }
+    for (size_t k = 0; k < r.regions.size(); ++k)
+        if (r.regions[k].status == StackRegionStatus::Ok) assessBlur(r.regions[k], readings[k], r);
 
     if (options.maps) {
         const auto t1 = std::chrono::steady_clock::now();
