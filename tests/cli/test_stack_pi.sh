@@ -18,8 +18,8 @@ pi="$data/focus-sweep-pi"
 		echo "$frame,${z:0:1}$((10#${z:1})),mm" # "+20" is read as 20
 	done
 } >"$tmp/pi.csv"
-# 4x4 regions of 100x100 px: on the 400x400 crops an 8x6 grid leaves 50x66 px regions, 4 of 48
-# of which peak beyond 10 mm of -50 (with the black frames left out by hand; 4x4: -57 to -42).
+# 4x4 regions of 100x100 px (they peak at Z = -57 to -42): on the 400x400 crops an 8x6 grid leaves
+# 50x66 px regions, 4 of 48 of which peak beyond 10 mm of -50.
 "$bin" stack "$pi/z*.jpg" --positions "$tmp/pi.csv" --grid 4x4 --json >"$tmp/pi.json" 2>"$tmp/err"
 st=$?
 [[ $st -eq 0 ]] || { echo "FAIL: stack exited $st: $(cat "$tmp/err")"; exit 1; }
