@@ -186,11 +186,13 @@ std::optional<double> chooseBlurPole(const std::vector<BlurReadings>& regions,
 }
 
 std::optional<BlurVFit> fitRegionBlurV(const BlurReadings& in, const StackResult& r) {
-    const bool floored = r.axisUnit != "dioptre" && r.axisUnit != "frame";
+    // The floor goes with the pole: where the axis is the lens's own (no pole), the plain V
+    // places the vertex as well on a lens's steps as in dioptres, and a floor there takes up
+    // the readings that place it.
     std::vector<double> q;
     for (double x : in.x)
         q.push_back(onV(x, r.blurPole));
-    auto fit = robustV(q, in.b, in.w, floored);
+    auto fit = robustV(q, in.b, in.w, r.blurPole.has_value());
     if (!fit || !r.blurPole) return fit;
     // Back on the axis: the vertex, and the slope of the V there in pixels per axis unit.
     const double d = 1.0 / fit->position;

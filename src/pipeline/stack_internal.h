@@ -33,9 +33,9 @@ BlurReadings blurReadings(const StackRegion& g, const StackResult& r);
 std::optional<double> chooseBlurPole(const std::vector<BlurReadings>& regions,
                                      const StackResult& r);
 
-/// The region's blur V on @p r's axis (with r.blurPole): a Huber M-estimate; floored on a
-/// distance axis. nullopt without two readings on each side of the vertex or when its arms do
-/// not rise above 3 times its RMS residual.
+/// The region's blur V on @p r's axis: a Huber M-estimate, over 1/(x − pole) and floored where
+/// r.blurPole is set, else fitBlurV's plain V. nullopt without two readings on each side of the
+/// vertex or when its arms do not rise above 3 times its RMS residual.
 std::optional<BlurVFit> fitRegionBlurV(const BlurReadings& in, const StackResult& r);
 
 /// The all-in-focus composite of @p lumas (one tightly packed @p width × @p height image a
