@@ -72,7 +72,9 @@ struct StackRegion {
     /// Sharpness peak on the stack's axis (StackResult::axis): Gaussian interpolation through
     /// the highest score and its neighbours (findFocusPeak).
     std::optional<FocusPeak> peak;
-    std::optional<BlurVFit> blurFit;        ///< V of the blur widths on the axis (fitBlurV)
+    /// V of the blur widths on the axis (StackResult::blurModelPx); its position and slope in
+    /// the axis's unit.
+    std::optional<BlurVFit> blurFit;
     std::optional<double> peakFrame;        ///< the peak as a fractional frame index
     std::optional<double> blurPeakFrame;    ///< the V's vertex as a fractional frame index
     std::optional<bool> agree;              ///< the two within one frame; empty without both
@@ -97,9 +99,14 @@ struct StackResult {
     /// The axis the curves are fitted on, one value per frame: dioptres where every frame has
     /// them, else the positions' value where every frame has one in one unit, else the index.
     std::vector<double> axis;
-    std::string axisUnit;              ///< "dioptre", the positions' unit, or "frame"
-    bool hasPositions = false;         ///< positions were given or reported for every frame
-    std::string positionUnit;          ///< their unit (empty without)
+    std::string axisUnit;       ///< "dioptre", the positions' unit, or "frame"
+    bool hasPositions = false;  ///< positions were given or reported for every frame
+    std::string positionUnit;   ///< their unit (empty without)
+    /// On a distance axis (a stage's Z, not dioptres or frames): the axis value at which the
+    /// object would reach the lens, chosen over all regions' blur; the V is linear in
+    /// 1/(position − pole), the axis's own dioptres up to scale. nullopt: the V is linear on
+    /// the axis.
+    std::optional<double> blurPole;
     std::vector<StackRegion> regions;  ///< row-major
     FocusMap map;                      ///< empty unless StackOptions::maps
     std::vector<uint8_t> composite;    ///< all-in-focus luma, width × height; empty without maps
@@ -114,6 +121,8 @@ struct StackResult {
     std::optional<double> positionAt(double f) const;
     /// Dioptres at fractional frame @p f; nullopt where a frame has none.
     std::optional<double> dioptresAt(double f) const;
+    /// The blur @p v predicts at axis value @p x, pixels (over 1/(x − blurPole) with a pole).
+    double blurModelPx(const BlurVFit& v, double x) const;
 };
 
 /// Opens @p source, reads every frame (at least 3), analyses them on StackOptions::threads

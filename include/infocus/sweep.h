@@ -50,6 +50,9 @@ struct BlurVFit {
     double slopePxPerUnit = 0.0;  ///< k, disc diameter in pixels per unit of position
     double rmsPx = 0.0;           ///< RMS of the weighted residuals, pixels
     int points = 0;               ///< readings used
+    /// Blur where the V bottoms out, added in quadrature, b = √(k²(p − p0)² + floor²), pixels;
+    /// 0 for fitBlurV's V (a stack fits one on a distance axis, docs/stack.md).
+    double floorPx = 0.0;
 };
 
 /// Fits b = k·|p − p0| to blur widths @p widthsPx at @p positions, weighted by @p weights

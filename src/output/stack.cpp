@@ -72,6 +72,7 @@ std::string stackJson(const StackResult& r, int indent) {
     j["metric"] = r.metric;
     j["axis_unit"] = r.axisUnit;
     j["position_unit"] = r.hasPositions ? Json(r.positionUnit) : Json(nullptr);
+    j["blur_pole"] = r.blurPole ? Json(*r.blurPole) : Json(nullptr);
     Json frames = Json::array();
     for (const StackFrame& f : r.frames) {
         Json o;
@@ -102,6 +103,7 @@ std::string stackJson(const StackResult& r, int indent) {
             b["slope_px_per_unit"] = g.blurFit->slopePxPerUnit;
             b["rms_px"] = g.blurFit->rmsPx;
             b["points"] = g.blurFit->points;
+            b["floor_px"] = g.blurFit->floorPx;
             o["blur_fit"] = std::move(b);
         } else {
             o["blur_fit"] = nullptr;

@@ -29,11 +29,6 @@ namespace {
 constexpr double kMinRise = 0.1;
 // ... nor one whose rise is under this many times what white noise adds to its score.
 constexpr double kMinRiseOverNoise = 3.0;
-// A blur V whose arms rise over the stack by less than this many times its RMS residual is a
-// cloud of readings, not a V: its vertex is not reported.
-constexpr double kMinVRiseOverRms = 3.0;
-// Blur widths above this share of a region's shorter side are left out of its V.
-constexpr double kMaxBlurShare = 0.25;
 // Fewer measured frames than this make no curve.
 constexpr size_t kMinFrames = 3;
 
@@ -176,6 +171,13 @@ std::optional<double> StackResult::positionAt(double f) const {
     return axisAt(f);
 }
 
+double StackResult::blurModelPx(const BlurVFit& v, double x) const {
+    if (!blurPole) return std::hypot(v.slopePxPerUnit * (x - v.position), v.floorPx);
+    // The slope is the V's at its vertex: k·(p0 − pole)² over 1/(x − pole).
+    const double d0 = v.position - *blurPole;
+    return std::hypot(v.slopePxPerUnit * d0 * d0 * (1 / (x - *blurPole) - 1 / d0), v.floorPx);
+}
+
 StackAgreement stackAgreement(const StackResult& r) {
     StackAgreement a;
     for (const StackRegion& g : r.regions) {
@@ -226,54 +228,14 @@ Status chooseAxis(StackResult& r, bool fromCsv) {
     return {};
 }
 
-// fitBlurV, then again without the readings whose residual is beyond kVOutlierSigmas robust σ
-// (1.4826·MAD of the residuals, at least 0.5 px): an edge the blur engine misread on one frame
-// (a width of twice its neighbours') otherwise moves the vertex by tenths of a frame.
-std::optional<BlurVFit> robustBlurV(std::vector<double> p, std::vector<double> b,
-                                    std::vector<double> w) {
-    constexpr double kVOutlierSigmas = 3.0;
-    auto fit = fitBlurV(p, b, w);
-    for (int pass = 0; pass < 2 && fit; ++pass) {
-        std::vector<double> res;
-        for (size_t i = 0; i < p.size(); ++i)
-            if (w[i] > 0)
-                res.push_back(
-                    std::abs(b[i] - fit->slopePxPerUnit * std::abs(p[i] - fit->position)));
-        std::vector<double> sorted = res;
-        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-        const double limit = kVOutlierSigmas * std::max(0.5, 1.4826 * sorted[sorted.size() / 2]);
-        std::vector<double> p2, b2, w2;
-        for (size_t i = 0, k = 0; i < p.size(); ++i) {
-            if (!(w[i] > 0)) continue;
-            if (res[k++] > limit) continue;
-            p2.push_back(p[i]);
-            b2.push_back(b[i]);
-            w2.push_back(w[i]);
-        }
-        if (p2.size() == p.size()) break;
-        auto refit = fitBlurV(p2, b2, w2);
-        if (!refit) break;
-        fit = refit;
-        p.swap(p2), b.swap(b2), w.swap(w2);
-    }
-    return fit;
-}
-
 // Fills a region's curves from the measured frames and finds its peaks.
 void assessRegion(StackRegion& g, const StackResult& r) {
     const size_t n = r.frames.size();
-    std::vector<double> x, y, bx, bw, bc;
+    std::vector<double> x, y;
     for (size_t i = 0; i < n; ++i) {
         if (!g.usable[i]) continue;
         x.push_back(r.axis[i]);
         y.push_back(g.sharpness[i]);
-        // A blur wider than a quarter of the region leaves no room for an edge's profile
-        // inside it: such a reading mixes in the neighbours' depths.
-        if (g.blurWidth[i] && *g.blurWidth[i] <= kMaxBlurShare * std::min(g.rect.w, g.rect.h)) {
-            bx.push_back(r.axis[i]);
-            bw.push_back(*g.blurWidth[i]);
-            bc.push_back(g.confidence[i]);
-        }
     }
     if (x.size() < kMinFrames) {
         g.status = g.status == StackRegionStatus::Ok ? StackRegionStatus::Dark : g.status;
@@ -301,14 +263,6 @@ void assessRegion(StackRegion& g, const StackResult& r) {
         return;
     }
     g.peak = findFocusPeak(x, y);
-    g.blurFit = robustBlurV(bx, bw, bc);
-    if (g.blurFit) {
-        double reach = 0;
-        for (double p : bx)
-            reach = std::max(reach, std::abs(p - g.blurFit->position));
-        if (!(g.blurFit->slopePxPerUnit * reach >= kMinVRiseOverRms * g.blurFit->rmsPx))
-            g.blurFit.reset();
-    }
     if (g.peak) {
         g.peakFrame = r.frameAt(g.peak->position);
         g.peakPosition = r.positionAt(*g.peakFrame);
@@ -316,6 +270,12 @@ void assessRegion(StackRegion& g, const StackResult& r) {
         if (g.peakDioptres)
             g.inFocusDistance = *g.peakDioptres > 0 ? 1 / *g.peakDioptres : HUGE_VAL;
     }
+}
+
+// Fits a textured region's blur V (stack_detail::fitRegionBlurV) and compares its vertex with
+// the sharpness peak.
+void assessBlur(StackRegion& g, const stack_detail::BlurReadings& readings, const StackResult& r) {
+    g.blurFit = stack_detail::fitRegionBlurV(readings, r);
     if (g.blurFit) g.blurPeakFrame = r.frameAt(g.blurFit->position);
     // A peak at the stack's first or last frame may lie beyond it, where a V (two readings on
     // each side of its vertex) cannot reach: there is nothing to compare.
@@ -488,6 +448,17 @@ Result<StackResult> analyzeStack(std::string_view source, const StackOptions& op
         assessRegion(g, r);
         r.regions.push_back(std::move(g));
     }
+    std::vector<stack_detail::BlurReadings> readings;
+    for (const StackRegion& g : r.regions)
+        readings.push_back(stack_detail::blurReadings(g, r));
+    if (r.axisUnit != "dioptre" && r.axisUnit != "frame") {
+        std::vector<stack_detail::BlurReadings> textured;
+        for (size_t k = 0; k < r.regions.size(); ++k)
+            if (r.regions[k].status == StackRegionStatus::Ok) textured.push_back(readings[k]);
+        r.blurPole = stack_detail::chooseBlurPole(textured, r);
+    }
+    for (size_t k = 0; k < r.regions.size(); ++k)
+        if (r.regions[k].status == StackRegionStatus::Ok) assessBlur(r.regions[k], readings[k], r);
 
     if (options.maps) {
         const auto t1 = std::chrono::steady_clock::now();

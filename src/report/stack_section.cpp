@@ -87,15 +87,14 @@ void curvePlot(std::string& h, const StackResult& r, const StackRegion& g) {
     h += "<polyline fill=\"none\" stroke=\"#258\" stroke-width=\"2\" points=\"" + line + "\"/>";
     if (g.blurFit) {
         std::string v;
-        // The V is straight on the axis; drawn through every frame, and its vertex.
+        // The V drawn through every frame and its vertex (straight between frames).
         std::vector<double> fs;
         for (size_t i = 0; i < n; ++i)
             fs.push_back(static_cast<double>(i));
         if (g.blurPeakFrame) fs.push_back(*g.blurPeakFrame);
         std::sort(fs.begin(), fs.end());
         for (double f : fs)
-            v += fmt("%.1f,%.1f ", X(f),
-                     Yb(g.blurFit->slopePxPerUnit * std::abs(r.axisAt(f) - g.blurFit->position)));
+            v += fmt("%.1f,%.1f ", X(f), Yb(r.blurModelPx(*g.blurFit, r.axisAt(f))));
         h += "<polyline fill=\"none\" stroke=\"#e00\" stroke-width=\"1.5\" points=\"" + v + "\"/>";
     }
     if (g.peakFrame)

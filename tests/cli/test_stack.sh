@@ -44,17 +44,36 @@ assert "Focus map" in html and "composite" in html and html.count("<svg") >= 3
 PY
 
 # Agreement of the two measures on the focus stacks. Target: 80 % of the textured regions with
-# both. The Pi sweep is left out: its blur V does not hold (docs/stack.md, Measured).
+# both. The Pi sweep's counts (4x4, positions from the names) are shown beside them but not held
+# to it: there one frame is 1 mm against a focus curve 29 frames wide, and the sharpness peaks of
+# its flat target alone spread over 15 frames (docs/stack.md, Measured).
 "$bin" stack "$data/focus-stack/depthmap" --json >"$tmp/depthmap.json" 2>"$tmp/err" && ok || bad "depthmap: $(cat "$tmp/err")"
-if python3 - "$tmp/pcb.json" "$tmp/depthmap.json" <<'PY'; then ok; else bad "agreement under 80 %"; fi
-import json, sys
-agree = both = textured = 0
+pi="$data/focus-sweep-pi"
+if [[ -f "$pi/z070_Z-050.jpg" ]]; then
+	for f in "$pi"/z*_Z*.jpg; do
+		name=$(basename "$f" .jpg)
+		z=${name#*_Z}
+		echo "$((10#${name:1:3})),${z:0:1}$((10#${z:1})),mm"
+	done >"$tmp/pi.csv"
+	"$bin" stack "$pi/z*.jpg" --positions "$tmp/pi.csv" --grid 4x4 --json >"$tmp/pi.json" 2>"$tmp/err" &&
+		ok || bad "pi: $(cat "$tmp/err")"
+fi
+if python3 - "$tmp/pcb.json" "$tmp/depthmap.json" "$tmp/pi.json" <<'PY'; then ok; else bad "agreement under 80 %"; fi
+import json, os, sys
+agree = both = 0
+counts = []
 for f in sys.argv[1:]:
+    if not os.path.exists(f):
+        continue
     a = json.load(open(f))["agreement"]
     print(f"{f.split('/')[-1]}: {a['agree']} of {a['both']} regions with a peak and a vertex agree "
           f"within one frame ({a['textured']} textured)")
-    agree += a["agree"]; both += a["both"]; textured += a["textured"]
-print(f"together: {agree} of {both} ({100 * agree / both:.0f} %), target 80 %")
+    counts.append((a["agree"], a["both"]))
+agree, both = sum(a for a, _ in counts[:2]), sum(b for _, b in counts[:2])
+print(f"the focus stacks together: {agree} of {both} ({100 * agree / both:.0f} %), target 80 %")
+if len(counts) == 3:
+    ga, gb = sum(a for a, _ in counts), sum(b for _, b in counts)
+    print(f"with the Pi sweep: {ga} of {gb} ({100 * ga / gb:.0f} %)")
 assert both >= 20 and agree >= 0.8 * both
 PY
 
