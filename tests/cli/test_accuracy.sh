@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The blur engine's accuracy tables as a user runs them (`infocus bench --accuracy`): they must run
 # to the end; every edge row inside the target ranges (disc 2–60 px ±5 %, Gaussian σ 0.7–20 px
-# ±3 %, edge angles 0–45°, noise 0–2 %) must meet its tolerance; the 200 random slanted squares
-# must each print a line and the summary.
+# ±3 %, edge angles 0–45°, noise 0–2 %) must meet its tolerance; and on the 200 random slanted
+# squares, for all cases, the near-axis ones and the wide discs alike, at least 95 % must read
+# with confidence ≥ 0.25 and those must read d or σ with p95 ≤ 2 % and worst ≤ 5 %.
 # Usage: test_accuracy.sh PATH_TO_INFOCUS
 set -u
 bin=${1:?path to infocus}
@@ -19,5 +20,14 @@ fail=0
 [[ $st -eq 0 && $rows -eq 75 && $edges == "0 row(s) inside the target ranges missed their tolerance" ]] ||
     fail=1
 [[ $squares -eq 200 ]] || fail=1
-grep -qE "^squares: targets" <<<"$out" || fail=1
+# Each summary line: "squares NAME N cases, confidence >= 0.25: K ( S %), error p95 P %, worst W %".
+for set in all near-axis wide-disc; do
+    line=$(grep -E "^squares $set " <<<"$out")
+    read -r share p95 worst < <(sed -E 's/.*\( *([0-9.]+) %\), error p95 +([0-9.]+) %, worst +([0-9.]+) %.*/\1 \2 \3/' <<<"$line")
+    if [[ -z $line ]] || ! awk -v s="$share" -v p="$p95" -v w="$worst" \
+        'BEGIN { exit !(s >= 95 && p <= 2 && w <= 5) }'; then
+        echo "squares $set: confident ${share:-?} % (>= 95), p95 ${p95:-?} % (<= 2), worst ${worst:-?} % (<= 5): missed"
+        fail=1
+    fi
+done
 exit $fail
