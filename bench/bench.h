@@ -3,6 +3,7 @@
 /// `infocus bench`: this machine's speed for each kernel, beside a baseline timed in the same run.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -111,5 +112,40 @@ const std::vector<double>& accuracyAngles();
 /// Measures synthetic edges (disc d 1–30 px, Gaussian σ 0.5–10 px, angles 0–45°, noise 0–2 % of
 /// the contrast, 8-bit, pixel-integrated) and hands each row to @p sink.
 void runAccuracy(const AccuracySink& sink);
+
+/// One case of the slanted-square table: a square of known blur in a frame that is one region.
+struct SquareRow {
+    int index = 0;            ///< 0 .. kSquareCases − 1
+    std::string model;        ///< "disc d" (diameter) or "gauss s" (σ)
+    double truePx = 0.0;      ///< the true d or σ, pixels
+    double noisePct = 0.0;    ///< noise σ, percent of the contrast
+    double contrast = 0.0;    ///< grey levels between the square and its ground
+    bool darkSquare = false;  ///< a dark square on a light ground (else the reverse)
+    int width = 0;            ///< the frame (and region), pixels
+    int height = 0;
+    double sidePx = 0.0;               ///< the square's side, pixels
+    double angleDeg = 0.0;             ///< its rotation, 0–360°
+    bool nearAxis = false;             ///< within 1–5° of 0° or 90°
+    bool wideDisc = false;             ///< a disc of kWideDiscPx or more
+    std::optional<double> measuredPx;  ///< d or σ as read; empty: no edge
+    double confidence = 0.0;           ///< the region's confidence
+    double errorPct = 0.0;             ///< |measured − true| / true; 100 when no edge
+};
+using SquareSink = std::function<void(const SquareRow&)>;
+/// Cases of the slanted-square table and the seed that draws them.
+inline constexpr int kSquareCases = 200;
+inline constexpr uint64_t kSquareSeed = 52;
+/// Discs from this diameter (pixels) are reported apart as wide.
+inline constexpr double kWideDiscPx = 30.0;
+/// Targets of the slanted-square table: share of cases read with confidence of at least
+/// kSquareMinConfidence, and the 95th percentile and worst error of those.
+inline constexpr double kSquareMinConfidence = 0.25;
+inline constexpr double kSquareConfidentSharePct = 95.0;
+inline constexpr double kSquareP95Pct = 2.0;
+inline constexpr double kSquareWorstPct = 5.0;
+/// Measures kSquareCases random slanted squares (synth::renderSquare: disc 2–60 px or Gaussian
+/// σ 0.7–20 px, any angle with a quarter within 1–5° of an axis, noise 0–2 % of a contrast of
+/// 60–180 grey levels, frames from 160 px), each frame one region, and hands each to @p sink.
+void runSquareAccuracy(const SquareSink& sink);
 
 }  // namespace infocus::bench

@@ -7,7 +7,7 @@ infocus_bench() {
     static const infocus::bench::BenchModule kBench{
         infocus::bench::kBenchAbi,        &infocus::bench::runAll,
         &infocus::bench::benchBlurImages, &infocus::bench::accuracyAngles,
-        &infocus::bench::runAccuracy,
+        &infocus::bench::runAccuracy,     &infocus::bench::runSquareAccuracy,
     };
     return &kBench;
 }

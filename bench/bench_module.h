@@ -22,10 +22,11 @@ struct BenchModule {
                             const std::vector<Image<uint8_t>>& images, const RowSink& sink);
     const std::vector<double>& (*accuracyAngles)();
     void (*runAccuracy)(const AccuracySink& sink);
+    void (*runSquareAccuracy)(const SquareSink& sink);
 };
 
 /// Version of struct BenchModule; raised whenever it or a type it passes changes.
-inline constexpr int kBenchAbi = 2;
+inline constexpr int kBenchAbi = 3;
 
 /// File name of the module and the name of its entry point.
 inline constexpr const char* kBenchModule = "infocus-bench.so";

@@ -197,4 +197,22 @@ Image<uint8_t> toLuma8(const Image<float>& image);
 /// Converts 8-bit luma to float grey levels.
 Image<float> toFloat(const Luma8& image);
 
+/// A square of side @p sidePx centred at (@p cx, @p cy), its sides rotated by @p angleDeg from
+/// the axes, grey level @p inside on a ground of @p outside (dark on light or the reverse).
+struct Square {
+    double cx = 0.0;
+    double cy = 0.0;
+    double sidePx = 64.0;
+    double angleDeg = 5.0;
+    float inside = 50.0f;
+    float outside = 200.0f;
+};
+
+/// Renders @p square in a @p width × @p height image exactly, corners included: a Gaussian PSF
+/// blurs it into the product of two 1-D box spreads along its sides, a disc leaves at each point
+/// the share of the disc inside the square (exact circle–polygon area). Each pixel is the mean
+/// of n × n points, n = imaging.supersample, fewer (at least 2) where the blur spreads over
+/// 12/n px or more; pixels farther from the sides than the PSF reaches are exact. Plus noise.
+SynthImage renderSquare(int width, int height, const Square& square, const Imaging& imaging);
+
 }  // namespace infocus::synth

@@ -100,4 +100,71 @@ void moveOnto(Patch& p, const LineFit& f) {
     p.ny = ny / len;
 }
 
+Trim trimToEdge(Patch& p, const Slice* s, int n, double probeHalfLength, double marginPx,
+                double minHalfLengthPx) {
+    if (n < 4) return Trim::Whole;
+    double strongest = 0.0;
+    for (int i = 0; i < n; ++i)
+        strongest = std::max(strongest, s[i].w);
+    const double half = 0.5 * strongest;
+    // The seed lies between slices n/2 − 1 and n/2; the edge runs on from there each way while
+    // its slices keep at least half the strongest derivative.
+    int lo = n / 2, hi = n / 2 - 1;
+    while (lo > 0 && s[lo - 1].w >= half)
+        --lo;
+    while (hi < n - 1 && s[hi + 1].w >= half)
+        ++hi;
+    if (hi < lo) return Trim::Whole;
+    // An end counts where the edge stops for good (a corner): beyond it the derivative falls
+    // under a tenth of the strongest and stays there to the probe's end. A contrast that merely
+    // dips along the edge (texture, shading) leaves the segment whole.
+    const auto stops = [&](int from, int to, int dir) {
+        bool faded = false;
+        for (int i = from; i != to; i += dir) {
+            if (s[i].w < 0.1 * strongest)
+                faded = true;
+            else if (faded)
+                return false;
+        }
+        return faded;
+    };
+    if (lo > 0 && !stops(lo - 1, -1, -1)) lo = 0;
+    if (hi < n - 1 && !stops(hi + 1, n, 1)) hi = n - 1;
+    const double step = 2.0 * probeHalfLength / n;
+    double t0 = -p.hl, t1 = p.hl;
+    if (lo > 0) t0 = std::max(t0, -probeHalfLength + lo * step + marginPx);
+    if (hi < n - 1) t1 = std::min(t1, -probeHalfLength + (hi + 1) * step - marginPx);
+    if (t0 <= -p.hl && t1 >= p.hl) return Trim::Whole;
+    if (t1 - t0 < 2.0 * minHalfLengthPx) return Trim::TooShort;
+    const double mid = 0.5 * (t0 + t1);
+    p.cx -= mid * p.ny;
+    p.cy += mid * p.nx;
+    p.hl = 0.5 * (t1 - t0);
+    return Trim::Trimmed;
+}
+
+std::optional<EdgeMeasurement> measureClearOfEnds(const Luma8& img, const Bounds& b,
+                                                  const BlurOptions& o, const Kernels& k,
+                                                  Patch& patch, double threshold,
+                                                  const LineFit& line, int slices, EdgeTrack& track,
+                                                  const Slice* probe, int probeSlices,
+                                                  double probeHalfLength, double minHalfLengthPx) {
+    const Patch whole = patch;
+    trimToEdge(patch, probe, probeSlices, probeHalfLength, 3.0 * guessSigma(line) + 1.0,
+               minHalfLengthPx);
+    const double first = patch.hl;
+    const auto m = measureSegment(img, b, o, k, patch, threshold, line, slices, track);
+    if (!m) return m;
+    // The probe's slab (±6 px) cuts a wide blur's derivative, and its guess of σ with it: the
+    // measured σ says how far the corner's blur reaches.
+    Patch again = whole;
+    const Trim t = trimToEdge(again, probe, probeSlices, probeHalfLength, 3.0 * m->sigmaPx + 1.0,
+                              minHalfLengthPx);
+    if (t == Trim::Whole) return m;
+    if (t == Trim::TooShort) return m;
+    if (again.hl >= first - 0.5) return m;
+    patch = again;
+    return measureSegment(img, b, o, k, patch, threshold, line, slices, track);
+}
+
 }  // namespace infocus::blur_detail

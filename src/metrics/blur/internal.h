@@ -230,6 +230,20 @@ LineFit fitLine(const Slice* s, int n);
 // (n' ∝ n − slope·t̂).
 void moveOnto(Patch& p, const LineFit& f);
 
+// How trimToEdge left a segment.
+enum class Trim {
+    Whole,     ///< no end of the edge within its reach: unchanged
+    Trimmed,   ///< shortened to stop short of the edge's ends
+    TooShort,  ///< the edge's whole part is shorter than the least length: unchanged
+};
+
+// Shortens @p p (on its line, spanning ±p.hl about the probe's seed) to the part of the edge the
+// probe's @p n slices of ±@p probeHalfLength found whole: where the derivative falls below half
+// the strongest slice's and then stops for good (a corner), the edge ends, and the segment stops
+// @p marginPx short of it so that the other side's blur stays out of the ESF.
+Trim trimToEdge(Patch& p, const Slice* s, int n, double probeHalfLength, double marginPx,
+                double minHalfLengthPx);
+
 // ---- ESF (esf.cpp).
 
 // An ESF's non-empty bins (see detail::EsfBins), in ascending position; scratch reused.
@@ -345,6 +359,17 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
                                               const BlurOptions& o, const Kernels& k, Patch& patch,
                                               double threshold, LineFit line, int slices,
                                               EdgeTrack& track);
+
+// measureSegment on @p patch kept clear of the edge's ends (trimToEdge on the probe's
+// @p probeSlices slices of ±@p probeHalfLength), by 3 σ + 1 px of the guessed σ and then of the
+// measured one: a segment shortened again is measured again, and an edge too short for its own
+// blur (a rounded corner of a wide blur) gives none.
+std::optional<EdgeMeasurement> measureClearOfEnds(const Luma8& img, const Bounds& b,
+                                                  const BlurOptions& o, const Kernels& k,
+                                                  Patch& patch, double threshold,
+                                                  const LineFit& line, int slices, EdgeTrack& track,
+                                                  const Slice* probe, int probeSlices,
+                                                  double probeHalfLength, double minHalfLengthPx);
 
 // The edge of @p track measured again in @p luma (BlurTracker): its ESF sampled in the same
 // patch, on the same line, and fitted as measureSegment fitted it there, so that an unchanged
