@@ -13,7 +13,7 @@ namespace infocus::stack_detail {
 namespace {
 
 // Blur widths above this share of a region's shorter side are left out of its V.
-constexpr double kMaxBlurShare = 0.25;
+constexpr double kMaxBlurShare = 0.15;
 // A blur V whose arms rise over the stack by less than this many times its RMS residual is a
 // cloud of readings, not a V: its vertex is not reported.
 constexpr double kMinVRiseOverRms = 3.0;
