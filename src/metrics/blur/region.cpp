@@ -86,9 +86,7 @@ std::optional<EdgeMeasurement> measureSeed(const Luma8& luma, const RegionSetup&
         p.hl = s.lengths[j];
         moveOnto(p, fits[j]);
         EdgeTrack t;
-        const auto m =
-            measureClearOfEnds(luma, s.sb, o, k, p, threshold, fits[j], s.slices >> j, t,
-                               probe.data(), s.slices, s.halfLength, kShortestHalfLengthPx);
+        const auto m = measureSegment(luma, s.sb, o, k, p, threshold, fits[j], s.slices >> j, t);
         if (tries == 1) covered = p;
         if (m && (!best || m->quality > best->quality)) {
             best = m;
@@ -270,8 +268,8 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
     // may set it: at least 0.3 × the region's best rank, and a contrast at least 5 × the
     // grey-level spread beside the edge. A cluttered edge (another edge or a corner in its
     // plateaus) can read narrow, and one such edge must not decide the region.
-    // The edges within 25 % of the sharpest, either side, are averaged in variance, weighted by
-    // quality, against noise.
+    // The edges within 25 % of the sharpest (15 % from σ 8 px), either side, are averaged in
+    // variance, weighted by quality, against noise.
     double best = 0.0;
     for (const Ranked& g : good)
         best = std::max(best, g.e->quality);
@@ -284,11 +282,14 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
     if (!std::isfinite(sharpest))
         for (const Ranked& g : good)
             sharpest = std::min(sharpest, g.e->sigmaPx);
+    // Noise scatters narrow edges by a few per cent, so their band is wide; a wide blur reads
+    // within a per cent or two, and an edge 20 % wider than it is a segment cut across a corner.
+    const double band = std::clamp(0.25 - 0.025 * (sharpest - 4.0), 0.15, 0.25);
     double sw = 0, sv = 0, sr = 0, sh = 0, shw = 0, sRank = 0;
     int agreeing = 0;
     for (const Ranked& g : good) {
         const EdgeMeasurement* e = g.e;
-        if (std::abs(e->sigmaPx - sharpest) > 0.25 * sharpest + 0.05) continue;
+        if (std::abs(e->sigmaPx - sharpest) > band * sharpest + 0.05) continue;
         sw += e->quality;
         sv += e->quality * e->sigmaPx * e->sigmaPx;
         sr += e->quality * e->edgeWidthPx * e->edgeWidthPx;
