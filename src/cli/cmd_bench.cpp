@@ -120,15 +120,18 @@ int runAccuracyTable(const bench::BenchModule& module, bool json) {
 }
 
 // The slanted-square figures over a set of cases: how many read with confidence, and the 95th
-// percentile (nearest rank) and worst error of those.
+// percentile (nearest rank) and worst error of those. The p95 target is the whole table's: a
+// subset of 16 cases has its worst case for a 95th percentile.
 struct SquareSummary {
     int cases = 0;
     int confident = 0;
     double sharePct = 0.0;
     double p95Pct = 0.0;
     double worstPct = 0.0;
+    bool wholeTable = false;
     bool met() const {
-        return sharePct >= bench::kSquareConfidentSharePct && p95Pct <= bench::kSquareP95Pct &&
+        return sharePct >= bench::kSquareConfidentSharePct &&
+               (!wholeTable || p95Pct <= bench::kSquareP95Pct) &&
                worstPct <= bench::kSquareWorstPct;
     }
 };
@@ -201,7 +204,8 @@ bool runSquareTable(const bench::BenchModule& module, bool json) {
         {"all", &all}, {"near-axis", &nearAxis}, {"wide-disc", &wide}};
     bool met = true;
     for (const auto& [name, rows] : sets) {
-        const SquareSummary s = summarise(*rows);
+        SquareSummary s = summarise(*rows);
+        s.wholeTable = rows == &all;
         met = met && s.met();
         if (json) {
             nlohmann::ordered_json j;
@@ -224,7 +228,8 @@ bool runSquareTable(const bench::BenchModule& module, bool json) {
     }
     if (!json)
         std::printf(
-            "squares: targets (>= %.0f %% confident, p95 <= %.0f %%, worst <= %.0f %%) %s\n",
+            "squares: targets (>= %.0f %% confident, p95 <= %.0f %% over all, worst <= %.0f "
+            "%%) %s\n",
             bench::kSquareConfidentSharePct, bench::kSquareP95Pct, bench::kSquareWorstPct,
             met ? "met" : "missed");
     return met;
