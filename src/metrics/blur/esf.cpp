@@ -225,10 +225,12 @@ EsfFit fitEsf(const BinList& bins, PairTerms& terms, double halfWidth, double mi
             const Level l = levelAt(bins, wl, -0.5, 0.5), r = levelAt(bins, wr, -0.5, 0.5);
             // A PSF's halo spreads both ways; an excess on one side only is shading or clutter.
             // Near 0° and 45° the ESF is sampled at whole-pixel spacing, too coarse to read its
-            // level at an end of a sharp edge's window: there the far plateaus stand.
+            // level at an end of a sharp edge's window, and in a window narrower than ±2.5 px
+            // the ±0.5 px about its end reach into the core's own tail: there the far plateaus
+            // stand.
             const double el = l.value - f.profileLo, er = hiFar - r.value;
             const double noise = 2.0 * f.noise * std::sqrt(1.0 / l.pixels + 1.0 / r.pixels);
-            const bool dense = f.binVar < 0.5 * kPixelVariance;
+            const bool dense = f.binVar < 0.5 * kPixelVariance && half >= kHaloMinHalfPx;
             const bool halo = dense && el > tail && er > tail && el + er > 2.0 * tail + noise;
             const double lo = halo ? l.value - tail : f.profileLo;
             const double hi = halo ? r.value + tail : hiFar;

@@ -38,9 +38,10 @@ constexpr int kMaxLengths = 8;
 constexpr double kMomentSigmas = 3.0, kCleanCnr = 20.0;
 // Most sizings of the narrow window by its own σ, and the share of the contrast a halo may place
 // at each of its ends (fitEsf): two thirds of a Gaussian's 0.135 % beyond 3 σ, so that flare of
-// 1–5 % at 5–20 × the core's σ reads the core (docs/blur.md, "Flare and aberrations").
+// 1–5 % at 5–20 × the core's σ reads the core (docs/blur.md, "Flare and aberrations"); and the
+// narrowest half-width (px) of that window tested for a halo.
 constexpr int kCoreIterations = 4;
-constexpr double kHaloTailShare = 0.0009;
+constexpr double kHaloTailShare = 0.0009, kHaloMinHalfPx = 2.5;
 
 // The widest σ (px) at which an edge's halo is counted (BlurEstimate::haloFraction).
 constexpr double kHaloSigmaPx = 2.0;
