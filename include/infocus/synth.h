@@ -22,27 +22,56 @@ enum class PsfShape {
     Disc,      ///< uniform disc (the thin-lens defocus PSF), size = diameter in pixels
 };
 
-/// A rotationally symmetric PSF of known size. Size 0 is a perfect lens (only the pixel's own
-/// area blurs the image).
+/// A rotationally symmetric PSF of known size: a core (Gaussian or disc) and, optionally, what a
+/// real lens adds to it. Size 0 is a perfect lens (only the pixel's own area blurs the image).
+///
+/// - **Flare** (`haloFraction` > 0): a wide, faint Gaussian halo (veiling glare, scattered light)
+///   of σ = `haloScale` × the core's σ carrying `haloFraction` of the energy; the core keeps the
+///   rest. PSF = (1 − f) core + f halo.
+/// - **Spherical aberration** (Disc only, `rimWeight` ≠ 0): the disc's intensity varies with the
+///   radius as 1 + k (2 (r/R)² − 1), k = `rimWeight` in −1..1: k > 0 a bright rim (one side of
+///   focus), k < 0 a bright centre (the other side); the mean over the disc stays 1.
+///
+/// The core is what focus changes; sigmaPx(), discDiameterPx() and edgeRisePx() describe it, halo
+/// excluded.
 struct Psf {
     PsfShape shape = PsfShape::Gaussian;
-    double sizePx = 0.0;  ///< σ (Gaussian) or diameter (Disc), pixels, ≥ 0
+    double sizePx = 0.0;        ///< σ (Gaussian) or diameter (Disc) of the core, pixels, ≥ 0
+    double haloFraction = 0.0;  ///< share of the energy in the halo, 0..1 (0: no flare)
+    double haloScale = 10.0;    ///< the halo's σ over the core's sigmaPx(), > 0
+    double rimWeight = 0.0;     ///< Disc: spherical aberration k, −1..1 (0: uniform disc)
 
     /// A Gaussian PSF of standard deviation @p sigmaPx (pixels).
     static Psf gaussian(double sigmaPx) { return {PsfShape::Gaussian, sigmaPx}; }
     /// A uniform disc PSF of diameter @p diameterPx (pixels): the thin-lens model's ΔX_i.
     static Psf disc(double diameterPx) { return {PsfShape::Disc, diameterPx}; }
+    /// A disc of diameter @p diameterPx with spherical aberration @p rimWeight (see above).
+    static Psf aberratedDisc(double diameterPx, double rimWeight) {
+        return {PsfShape::Disc, diameterPx, 0.0, 10.0, rimWeight};
+    }
+    /// @p core with a Gaussian halo of @p fraction of the energy, @p scale times the core's σ.
+    static Psf withFlare(Psf core, double fraction, double scale) {
+        core.haloFraction = fraction;
+        core.haloScale = scale;
+        return core;
+    }
 
-    /// σ of the PSF's projection on any line (Gaussian: σ; disc of diameter d: d/4).
+    /// σ of the core's projection on any line (Gaussian: σ; disc of diameter d: d/4, with
+    /// spherical aberration k: d √((3 + k)/48)).
     double sigmaPx() const;
-    /// Diameter of the uniform disc with the same second moment (Gaussian: 4σ; disc: d).
+    /// Diameter of the uniform disc with the core's second moment (4 sigmaPx(); a uniform disc:
+    /// d).
     double discDiameterPx() const;
-    /// 10–90 % rise of the PSF's edge spread, pixel area excluded (2.5631 σ; 0.68705 d).
+    /// 10–90 % rise of the core's edge spread, pixel area and halo excluded (Gaussian 2.5631 σ,
+    /// uniform disc 0.68705 d; an aberrated disc's found numerically).
     double edgeRisePx() const;
+    /// σ of the halo, pixels (haloScale × sigmaPx()).
+    double haloSigmaPx() const { return haloScale * sigmaPx(); }
 };
 
 /// Edge spread of @p psf at signed distance @p u pixels from a straight edge: the fraction (0..1)
-/// of the PSF's mass with projection < u on the edge normal (pixel area not included).
+/// of the PSF's mass with projection < u on the edge normal (pixel area not included; the halo
+/// included).
 double edgeSpread(const Psf& psf, double u);
 
 /// How an image is imaged: PSF, pixel integration and noise.

@@ -23,9 +23,36 @@ double normalPdf(double z) {
     return std::exp(-0.5 * z * z) / std::sqrt(2.0 * kPi);
 }
 
-// Antiderivative of the edge spread, G(u) = ∫_{-∞}^{u} ESF(t) dt, so that the mean of the ESF
-// over an interval is exact: used to integrate a pixel analytically along one axis.
-double edgeSpreadIntegral(const Psf& psf, double u) {
+// The core of @p psf alone (no halo).
+Psf coreOf(const Psf& psf) {
+    Psf c = psf;
+    c.haloFraction = 0.0;
+    return c;
+}
+
+// The halo of @p psf as a Gaussian PSF of its own.
+Psf haloOf(const Psf& psf) {
+    return Psf::gaussian(psf.haloSigmaPx());
+}
+
+bool hasHalo(const Psf& psf) {
+    return psf.haloFraction > 0.0 && psf.sizePx > 0.0;
+}
+
+// Edge spread of a disc of radius r with spherical aberration k (intensity ∝ 1 + k(2ρ² − 1)),
+// t = u/r in −1..1, s = √(1 − t²): its projection is (2s/π)(1 − k/3 + 4k t²/3), integrated with
+// ∫s = (ts + asin t)/2 and ∫t²s = (asin t − ts(1 − 2t²))/8.
+double aberratedDiscSpread(double t, double k) {
+    const double s = std::sqrt(std::max(0.0, 1.0 - t * t)), as = std::asin(t);
+    const double a = 1.0 - k / 3.0, b = k / 6.0;
+    return 2.0 / kPi *
+           (a * (0.5 * (t * s + as) + 0.25 * kPi) +
+            b * (as - t * s * (1.0 - 2.0 * t * t) + 0.5 * kPi));
+}
+
+// Antiderivative of the core's edge spread, G(u) = ∫_{-∞}^{u} ESF(t) dt, so that the mean of the
+// ESF over an interval is exact: used to integrate a pixel analytically along one axis.
+double coreSpreadIntegral(const Psf& psf, double u) {
     if (psf.sizePx <= 0.0) return std::max(u, 0.0);
     if (psf.shape == PsfShape::Gaussian) {
         // ∫ Φ(t/σ) dt = t Φ(t/σ) + σ φ(t/σ)
@@ -35,12 +62,30 @@ double edgeSpreadIntegral(const Psf& psf, double u) {
     const double r = 0.5 * psf.sizePx;
     if (u <= -r) return 0.0;
     if (u >= r) return u;
-    // ∫ of the semicircle CDF 1/2 + (t√(r²−t²) + r² asin(t/r))/(π r²), from −r to u.
-    const double q = std::sqrt(std::max(0.0, r * r - u * u));
-    const double r2 = r * r;
-    return 0.5 * (u + r) +
-           (-q * q * q / 3.0 + r2 * u * std::asin(u / r) + r2 * q - r2 * r * kPi / 2.0) /
-               (kPi * r2);
+    if (psf.rimWeight == 0.0) {
+        // ∫ of the semicircle CDF 1/2 + (t√(r²−t²) + r² asin(t/r))/(π r²), from −r to u.
+        const double q = std::sqrt(std::max(0.0, r * r - u * u));
+        const double r2 = r * r;
+        return 0.5 * (u + r) +
+               (-q * q * q / 3.0 + r2 * u * std::asin(u / r) + r2 * q - r2 * r * kPi / 2.0) /
+                   (kPi * r2);
+    }
+    // ∫ of aberratedDiscSpread from −1 to t, with ∫ts = −s³/3, ∫asin t = t asin t + s and
+    // ∫t³s = −s³/3 + s⁵/5; both parts vanish at t = −1 and reach t at t = 1.
+    const double t = u / r, k = psf.rimWeight;
+    const double s = std::sqrt(std::max(0.0, 1.0 - t * t)), as = std::asin(t);
+    const double s3 = s * s * s;
+    const double a = 1.0 - k / 3.0, b = k / 6.0;
+    const double pa = -s3 / 6.0 + 0.5 * (t * as + s) + 0.25 * kPi * t;
+    const double pb = t * as + s - s3 / 3.0 + 0.4 * s3 * s * s + 0.5 * kPi * t;
+    return r * 2.0 / kPi * (a * pa + b * pb);
+}
+
+// The same for the whole PSF: the core and the halo mixed in their shares.
+double edgeSpreadIntegral(const Psf& psf, double u) {
+    if (!hasHalo(psf)) return coreSpreadIntegral(psf, u);
+    const double f = psf.haloFraction;
+    return (1.0 - f) * coreSpreadIntegral(psf, u) + f * coreSpreadIntegral(haloOf(psf), u);
 }
 
 // Kernel of @p psf integrated over cells of 1/@p cellsPerPx pixels, normalised to sum 1.
@@ -67,7 +112,11 @@ cv::Mat psfKernel(const Psf& psf, int cellsPerPx) {
     double sum = 0.0;
     for (int j = -half; j <= half; ++j) {
         for (int i = -half; i <= half; ++i) {
-            const double v = discPixelCoverage(i, j, r, 16);
+            // Spherical aberration weighs the covered area by the intensity at the cell's
+            // centre, 1 + k(2ρ² − 1), ρ capped at the rim.
+            const double rho2 = std::min(1.0, (i * i + j * j) / (r * r));
+            const double v =
+                discPixelCoverage(i, j, r, 16) * (1.0 + psf.rimWeight * (2.0 * rho2 - 1.0));
             k.at<float>(j + half, i + half) = static_cast<float>(v);
             sum += v;
         }
@@ -84,9 +133,9 @@ cv::Mat wrap(Image<float>& img) {
     return cv::Mat(img.height(), img.width(), CV_32F, img.data());
 }
 
-// Convolves @p src (fine samples) with @p psf at @p cellsPerPx cells per pixel, borders
-// replicated (a scene extends past the frame rather than turning black).
-void convolve(const cv::Mat& src, cv::Mat& dst, const Psf& psf, int cellsPerPx) {
+// Convolves @p src (fine samples) with the core of @p psf alone at @p cellsPerPx cells per
+// pixel, borders replicated (a scene extends past the frame rather than turning black).
+void convolveCore(const cv::Mat& src, cv::Mat& dst, const Psf& psf, int cellsPerPx) {
     if (psf.sizePx <= 0.0) {
         src.copyTo(dst);
         return;
@@ -98,27 +147,55 @@ void convolve(const cv::Mat& src, cv::Mat& dst, const Psf& psf, int cellsPerPx) 
         cv::filter2D(src, dst, CV_32F, k, cv::Point(-1, -1), 0.0, cv::BORDER_REPLICATE);
 }
 
+// The same with the halo: the core's and the halo's images mixed in their shares (the PSF is
+// their sum, and convolution is linear).
+void convolve(const cv::Mat& src, cv::Mat& dst, const Psf& psf, int cellsPerPx) {
+    convolveCore(src, dst, coreOf(psf), cellsPerPx);
+    if (!hasHalo(psf)) return;
+    cv::Mat halo;
+    convolveCore(src, halo, haloOf(psf), cellsPerPx);
+    cv::addWeighted(dst, 1.0 - psf.haloFraction, halo, psf.haloFraction, 0.0, dst);
+}
+
 }  // namespace
 
 double Psf::sigmaPx() const {
-    return shape == PsfShape::Gaussian ? sizePx : sizePx / 4.0;
+    if (shape == PsfShape::Gaussian) return sizePx;
+    // Projection variance of a radial intensity is E[r²]/2 = R²(3 + k)/12 (k = 0: d²/16).
+    return sizePx * std::sqrt((3.0 + rimWeight) / 48.0);
 }
 
 double Psf::discDiameterPx() const {
     // A disc's projection is a semicircle of variance r²/4 = d²/16, so equal moments: d = 4σ.
-    return shape == PsfShape::Disc ? sizePx : 4.0 * sizePx;
+    return 4.0 * sigmaPx();
 }
 
 double Psf::edgeRisePx() const {
-    return shape == PsfShape::Gaussian ? 2.5631 * sizePx : 0.68705 * sizePx;
+    if (shape == PsfShape::Gaussian) return 2.5631 * sizePx;
+    if (rimWeight == 0.0) return 0.68705 * sizePx;
+    // The 10 % and 90 % crossings of the aberrated disc's spread, by bisection in t = u/r.
+    auto crossing = [k = rimWeight](double level) {
+        double lo = -1.0, hi = 1.0;
+        for (int i = 0; i < 60; ++i) {
+            const double mid = 0.5 * (lo + hi);
+            (aberratedDiscSpread(mid, k) < level ? lo : hi) = mid;
+        }
+        return 0.5 * (lo + hi);
+    };
+    return 0.5 * sizePx * (crossing(0.9) - crossing(0.1));
 }
 
 double edgeSpread(const Psf& psf, double u) {
+    if (hasHalo(psf)) {
+        const double f = psf.haloFraction;
+        return (1.0 - f) * edgeSpread(coreOf(psf), u) + f * edgeSpread(haloOf(psf), u);
+    }
     if (psf.sizePx <= 0.0) return u < 0.0 ? 0.0 : (u > 0.0 ? 1.0 : 0.5);
     if (psf.shape == PsfShape::Gaussian) return normalCdf(u / psf.sizePx);
     const double r = 0.5 * psf.sizePx;
     if (u <= -r) return 0.0;
     if (u >= r) return 1.0;
+    if (psf.rimWeight != 0.0) return aberratedDiscSpread(u / r, psf.rimWeight);
     return 0.5 + (u * std::sqrt(r * r - u * u) + r * r * std::asin(u / r)) / (kPi * r * r);
 }
 

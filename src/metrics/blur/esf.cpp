@@ -89,6 +89,21 @@ void forEachPixelMean(const BinList& bins, double from, double to, Fn&& fn) {
     }
 }
 
+// The ESF about @p x: the mean of the bins from @p from to @p to px of it (or the nearest bin),
+// and the number of pixels averaged.
+struct Level {
+    double value, pixels;
+};
+Level levelAt(const BinList& bins, double x, double from, double to) {
+    const size_t size = bins.size;
+    double sum = 0.0, n = 0.0;
+    for (size_t i = firstAtOrAfter(bins, x + from); i < size && bins.pos[i] <= x + to; ++i)
+        sum += bins.value[i] * bins.count[i], n += bins.count[i];
+    if (n > 0) return {sum / n, n};
+    const size_t i = std::min(firstAtOrAfter(bins, x), size - 1);
+    return {bins.value[i], std::max(bins.count[i], 1.0)};
+}
+
 }  // namespace
 
 double esfHalo(const BinList& bins, double mu, double sd) {
@@ -184,23 +199,51 @@ EsfFit fitEsf(const BinList& bins, PairTerms& terms, double halfWidth, double mi
         f.needWider = true;
         return f;
     }
-    // The variance in the narrow window, sized by the σ of the wide one (not iterated: a window
-    // sized by its own σ can settle on a step of clutter). Only where the spread beside the edge
-    // is small against the contrast: the scatter it removes is that of white noise, while a
-    // plateau spread of clutter (other edges, texture along the edge) means the ESF outside 3 σ
-    // is no tail of this edge's PSF either way, and the wide window's value is kept.
-    {
-        const double half = kMomentSigmas * std::sqrt(std::max(f.varLsf + f.binVar, 0.05));
-        const double wl = f.mean - half, wr = f.mean + half;
-        // The last bin at or left of wl (or the first), the first at or right of wr (or the last).
-        const size_t afterL = firstAfter(bins, wl);
-        const size_t il = afterL > 0 ? afterL - 1 : 0;
-        const size_t ir = std::min(firstAtOrAfter(bins, wr), size - 1);
-        f.varCore = f.varLsf;
-        if (ir > il + 2 && f.contrast >= kCleanCnr * std::max(f.noise, 0.5)) {
-            const Moments m = lineSpreadMoments(terms.get(), il, ir, f.profileLo,
-                                                f.profileLo + f.profileContrast, bins);
+    // The variance in the narrow window, sized by the σ of the wide one (and, where it cuts a
+    // halo, then by its own). Only where the spread beside the edge is small against the contrast:
+    // the scatter it removes is that of white noise, while a plateau spread of clutter (other
+    // edges, texture along the edge) means the ESF outside 3 σ is no tail of this edge's PSF either
+    // way, and the wide window's value is kept.
+    f.varCore = f.varLsf;
+    if (f.contrast >= kCleanCnr * std::max(f.noise, 0.5)) {
+        double centre = f.mean;
+        double half = kMomentSigmas * std::sqrt(std::max(f.varLsf + f.binVar, 0.05));
+        for (int iter = 0; iter < kCoreIterations; ++iter) {
+            const double wl = centre - half, wr = centre + half;
+            // The last bin at or left of wl (or the first), the first at or right of wr (or the
+            // last).
+            const size_t afterL = firstAfter(bins, wl);
+            const size_t il = afterL > 0 ? afterL - 1 : 0;
+            const size_t ir = std::min(firstAtOrAfter(bins, wr), size - 1);
+            if (ir <= il + 2) break;
+            // The light between the window's ends and the far plateaus is placed at the ends
+            // (a Gaussian's tail beyond 3 σ), unless it is more than kHaloTailShare of the
+            // contrast and than noise explains: then a halo (flare, glare) keeps the ESF moving
+            // beyond the core, and its light, which would weigh with 9 σ², is cut to that share
+            // at that end (docs/blur.md, "Flare and aberrations").
+            const double c = f.profileContrast, hiFar = f.profileLo + c, tail = kHaloTailShare * c;
+            const Level l = levelAt(bins, wl, -0.5, 0.5), r = levelAt(bins, wr, -0.5, 0.5);
+            // A PSF's halo spreads both ways; an excess on one side only is shading or clutter.
+            // Near 0° and 45° the ESF is sampled at whole-pixel spacing, too coarse to read its
+            // level at an end of a sharp edge's window, and in a window narrower than ±2.5 px
+            // the ±0.5 px about its end reach into the core's own tail: there the far plateaus
+            // stand.
+            const double el = l.value - f.profileLo, er = hiFar - r.value;
+            const double noise = 2.0 * f.noise * std::sqrt(1.0 / l.pixels + 1.0 / r.pixels);
+            const bool dense = f.binVar < 0.5 * kPixelVariance && half >= kHaloMinHalfPx;
+            const bool halo = dense && el > tail && er > tail && el + er > 2.0 * tail + noise;
+            const double lo = halo ? l.value - tail : f.profileLo;
+            const double hi = halo ? r.value + tail : hiFar;
+            if (!(hi - lo > 0.5 * f.profileContrast)) break;
+            const Moments m = lineSpreadMoments(terms.get(), il, ir, lo, hi, bins);
             f.varCore = m.var - m.binVar;
+            centre = m.mean;
+            const double next = kMomentSigmas * std::sqrt(std::max(m.var, 0.05));
+            // Only a halo's window is sized again: elsewhere the σ of the wide one stands (a
+            // window sized by its own σ can settle on a step of clutter).
+            const bool settled = !halo || std::abs(next - half) < 0.05;
+            half = next;
+            if (settled) break;
         }
     }
     // 10–90 % rise of the sampled ESF, searched outwards from the centroid.

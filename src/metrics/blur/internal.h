@@ -36,6 +36,12 @@ constexpr int kMaxLengths = 8;
 // Half-width of the window in which the reported line-spread variance is taken, in its σ, and the
 // contrast-to-spread ratio above which the spread beside an edge counts as noise (fitEsf).
 constexpr double kMomentSigmas = 3.0, kCleanCnr = 20.0;
+// Most sizings of the narrow window by its own σ, and the share of the contrast a halo may place
+// at each of its ends (fitEsf): two thirds of a Gaussian's 0.135 % beyond 3 σ, so that flare of
+// 1–5 % at 5–20 × the core's σ reads the core (docs/blur.md, "Flare and aberrations"); and the
+// narrowest half-width (px) of that window tested for a halo.
+constexpr int kCoreIterations = 4;
+constexpr double kHaloTailShare = 0.0009, kHaloMinHalfPx = 2.5;
 
 // The widest σ (px) at which an edge's halo is counted (BlurEstimate::haloFraction).
 constexpr double kHaloSigmaPx = 2.0;
@@ -321,7 +327,10 @@ double esfHalo(const BinList& bins, double mu, double sd);
 // levels, so the tail mass between 3 σ and the plateaus (0.27 % of a Gaussian, none of a disc)
 // is kept, placed at the window's edge. That misses (x² − 9σ²) over a Gaussian's tails, 0.5 % of
 // its variance (σ 0.25 % low), and nothing of a disc from d = 2 px up (its projection ends at
-// 2 σ, the pixel's at 0.71 px). The bins' own spread is removed here, the pixel's 1/12 by the
+// 2 σ, the pixel's at 0.71 px). Where the ESF still moves beyond both ends by more than
+// kHaloTailShare and noise explain (a halo: flare, glare), the levels at the ends are taken
+// instead, with kHaloTailShare of tail, and the window is sized by its own σ: the width then
+// describes the core, not the halo. The bins' own spread is removed here, the pixel's 1/12 by the
 // caller. The window starts over the whole patch (@p halfWidth about its middle), or, with
 // @p startRadius > 0, over ±startRadius about the patch's line (u = 0).
 EsfFit fitEsf(const BinList& bins, PairTerms& terms, double halfWidth, double minContrast,
