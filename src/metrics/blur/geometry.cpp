@@ -146,10 +146,12 @@ Trim trimToEdge(Patch& p, const Slice* s, int n, double probeHalfLength, double 
 namespace {
 
 // measureSegment on @p patch as trimToEdge left it (@p how). The probe's line was fitted over the
-// whole length, the edge's end included, where the other side's derivative pulls the slices'
-// centroids off the edge and spreads them: on a trimmed patch that line is tilted (a tilted line
-// widens the ESF) and its guess of σ too wide, so the line is fitted again in the trimmed patch's
-// own slab, as wide as the probe's.
+// whole length, the edge's end included, where the corner's blur pulls the slices' centroids off
+// the edge and spreads them: on a trimmed patch that line may be tilted (a tilted line widens the
+// ESF) and its guess of σ too wide. The line is fitted again in the trimmed patch's own slab, as
+// wide as the probe's, and taken where its derivative spreads less than the probe's; where it
+// spreads more, the trimmed part holds texture or clutter that the longer probe averaged, and
+// the probe's line stands.
 std::optional<EdgeMeasurement> measureTrimmed(const Luma8& img, const Bounds& b,
                                               const BlurOptions& o, const Kernels& k, Patch& patch,
                                               Trim how, double threshold, const LineFit& line,
@@ -162,7 +164,7 @@ std::optional<EdgeMeasurement> measureTrimmed(const Luma8& img, const Bounds& b,
         slab.hw = kProbeHalfWidthPx;
         geometrySlices(img, b, k, slab, threshold, slices, sl.data());
         const LineFit refit = fitLine(sl.data(), slices);
-        if (refit.ok) {
+        if (refit.ok && refit.spread2 <= line.spread2) {
             moveOnto(patch, refit);
             fit = refit;
         }
