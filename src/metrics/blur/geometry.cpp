@@ -143,6 +143,37 @@ Trim trimToEdge(Patch& p, const Slice* s, int n, double probeHalfLength, double 
     return Trim::Trimmed;
 }
 
+namespace {
+
+// measureSegment on @p patch as trimToEdge left it (@p how). The probe's line was fitted over the
+// whole length, the edge's end included, where the corner's blur pulls the slices' centroids off
+// the edge and spreads them: on a trimmed patch that line may be tilted (a tilted line widens the
+// ESF) and its guess of σ too wide. The line is fitted again in the trimmed patch's own slab, as
+// wide as the probe's, and taken where its derivative spreads less than the probe's; where it
+// spreads more, the trimmed part holds texture or clutter that the longer probe averaged, and
+// the probe's line stands.
+std::optional<EdgeMeasurement> measureTrimmed(const Luma8& img, const Bounds& b,
+                                              const BlurOptions& o, const Kernels& k, Patch& patch,
+                                              Trim how, double threshold, const LineFit& line,
+                                              int slices, EdgeTrack& track) {
+    LineFit fit = line;
+    if (how == Trim::Trimmed) {
+        thread_local std::vector<Slice> sl;
+        sl.resize(slices);
+        Patch slab = patch;
+        slab.hw = kProbeHalfWidthPx;
+        geometrySlices(img, b, k, slab, threshold, slices, sl.data());
+        const LineFit refit = fitLine(sl.data(), slices);
+        if (refit.ok && refit.spread2 <= line.spread2) {
+            moveOnto(patch, refit);
+            fit = refit;
+        }
+    }
+    return measureSegment(img, b, o, k, patch, threshold, fit, slices, track);
+}
+
+}  // namespace
+
 std::optional<EdgeMeasurement> measureClearOfEnds(const Luma8& img, const Bounds& b,
                                                   const BlurOptions& o, const Kernels& k,
                                                   Patch& patch, double threshold,
@@ -150,10 +181,10 @@ std::optional<EdgeMeasurement> measureClearOfEnds(const Luma8& img, const Bounds
                                                   const Slice* probe, int probeSlices,
                                                   double probeHalfLength, double minHalfLengthPx) {
     const Patch whole = patch;
-    trimToEdge(patch, probe, probeSlices, probeHalfLength, 3.0 * guessSigma(line) + 1.0,
-               minHalfLengthPx);
-    const double first = patch.hl;
-    const auto m = measureSegment(img, b, o, k, patch, threshold, line, slices, track);
+    const Trim first = trimToEdge(patch, probe, probeSlices, probeHalfLength,
+                                  3.0 * guessSigma(line) + 1.0, minHalfLengthPx);
+    const double firstHalfLength = patch.hl;
+    const auto m = measureTrimmed(img, b, o, k, patch, first, threshold, line, slices, track);
     if (!m) return m;
     // The probe's slab (±6 px) cuts a wide blur's derivative, and its guess of σ with it: the
     // measured σ says how far the corner's blur reaches.
@@ -162,9 +193,9 @@ std::optional<EdgeMeasurement> measureClearOfEnds(const Luma8& img, const Bounds
                               minHalfLengthPx);
     if (t == Trim::Whole) return m;
     if (t == Trim::TooShort) return m;
-    if (again.hl >= first - 0.5) return m;
+    if (again.hl >= firstHalfLength - 0.5) return m;
     patch = again;
-    return measureSegment(img, b, o, k, patch, threshold, line, slices, track);
+    return measureTrimmed(img, b, o, k, patch, t, threshold, line, slices, track);
 }
 
 }  // namespace infocus::blur_detail

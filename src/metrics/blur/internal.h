@@ -371,8 +371,8 @@ std::optional<EdgeMeasurement> measureSegment(const Luma8& img, const Bounds& b,
 
 // measureSegment on @p patch kept clear of the edge's ends (trimToEdge on the probe's
 // @p probeSlices slices of ±@p probeHalfLength), by 3 σ + 1 px of the guessed σ and then of the
-// measured one: a segment shortened again is measured again, and an edge too short for its own
-// blur (a rounded corner of a wide blur) gives none.
+// measured one: a shortened segment has its line fitted again in its own slab and is measured
+// again; one that would be shorter than the least length is measured as it was.
 std::optional<EdgeMeasurement> measureClearOfEnds(const Luma8& img, const Bounds& b,
                                                   const BlurOptions& o, const Kernels& k,
                                                   Patch& patch, double threshold,

@@ -86,7 +86,9 @@ std::optional<EdgeMeasurement> measureSeed(const Luma8& luma, const RegionSetup&
         p.hl = s.lengths[j];
         moveOnto(p, fits[j]);
         EdgeTrack t;
-        const auto m = measureSegment(luma, s.sb, o, k, p, threshold, fits[j], s.slices >> j, t);
+        const auto m =
+            measureClearOfEnds(luma, s.sb, o, k, p, threshold, fits[j], s.slices >> j, t,
+                               probe.data(), s.slices, s.halfLength, kShortestHalfLengthPx);
         if (tries == 1) covered = p;
         if (m && (!best || m->quality > best->quality)) {
             best = m;
