@@ -85,12 +85,18 @@ TEST_CASE("real frames defocused in light: grey levels and sRGB decoding read al
             "disc %.0f px: grey levels %zu readings, median %.3f of the truth; decoded "
             "%zu, median %.3f\n",
             disc, greyRatio.size(), mg, decodedRatio.size(), md);
-        // Enough readings to speak of a median, both within 10 % of the truth, and within 5 %
-        // of each other: on these frames the curve moves a reading less than the regions scatter.
+        // Enough readings to speak of a median, and grey levels and decoded within 5 % of each
+        // other: on these frames the curve moves a reading less than the regions scatter.
+        // Against the truth: the chart's white side rises slowly over some 15 px (glare; the
+        // line spread's variance is 1.08 px² within ±4 px of the edge, 3.0 px² within ±11 px),
+        // which d₀, read in the sharp frame's narrow window, leaves out and a 12 px disc's wide
+        // window takes in: up to 12 % over √(d² + d₀²) at 12 px, 5 % at 20 px. Hence 15 % and
+        // 10 %.
+        const double tolerance = disc < 15 ? 0.15 : 0.10;
         CHECK(greyRatio.size() >= 20);
         CHECK(decodedRatio.size() >= 20);
-        CHECK(std::abs(mg - 1) <= 0.10);
-        CHECK(std::abs(md - 1) <= 0.10);
+        CHECK(std::abs(mg - 1) <= tolerance);
+        CHECK(std::abs(md - 1) <= tolerance);
         CHECK(std::abs(mg - md) <= 0.05);
     }
 }
