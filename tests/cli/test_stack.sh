@@ -43,10 +43,10 @@ html = open(sys.argv[2] + "/report.html").read()
 assert "Focus map" in html and "composite" in html and html.count("<svg") >= 3
 PY
 
-# Agreement of the two measures on the focus stacks. Target: 80 % of the textured regions with
-# both. The Pi sweep's counts (4x4, positions from the names) are shown beside them but not held
-# to it: there one frame is 1 mm against a focus curve 29 frames wide, and the sharpness peaks of
-# its flat target alone spread over 15 frames (docs/stack.md, Measured).
+# Agreement of the two measures on the real stacks. Target: 80 % of the textured regions with
+# both, over the two focus stacks and over all three with the Pi sweep (4x4, positions from the
+# names). On the Pi sweep alone few agree: there one frame is 1 mm against a focus curve 29 frames
+# wide, and the sharpness peaks of its flat target alone spread over 15 frames (docs/stack.md).
 "$bin" stack "$data/focus-stack/depthmap" --json >"$tmp/depthmap.json" 2>"$tmp/err" && ok || bad "depthmap: $(cat "$tmp/err")"
 pi="$data/focus-sweep-pi"
 if [[ -f "$pi/z070_Z-050.jpg" ]]; then
@@ -71,10 +71,11 @@ for f in sys.argv[1:]:
     counts.append((a["agree"], a["both"]))
 agree, both = sum(a for a, _ in counts[:2]), sum(b for _, b in counts[:2])
 print(f"the focus stacks together: {agree} of {both} ({100 * agree / both:.0f} %), target 80 %")
+assert both >= 20 and agree >= 0.8 * both
 if len(counts) == 3:
     ga, gb = sum(a for a, _ in counts), sum(b for _, b in counts)
-    print(f"with the Pi sweep: {ga} of {gb} ({100 * ga / gb:.0f} %)")
-assert both >= 20 and agree >= 0.8 * both
+    print(f"with the Pi sweep: {ga} of {gb} ({100 * ga / gb:.0f} %), target 80 %")
+    assert ga >= 0.8 * gb
 PY
 
 # Bad input.
