@@ -101,7 +101,9 @@ TEST_CASE("report: a plane in focus is sharp, one a dioptre off is not (sim grou
     const Run in = reportOf("sim:scene=plane,distance=1m,focus=1m" + lens, lens16());
     const auto inFocus = numbersAfter(in.html, "In focus</b>: ([0-9]+) of the ([0-9]+) regions");
     INFO(inFocus[0] << " of " << inFocus[1]);
-    REQUIRE(inFocus[1] >= 100);
+    // Enough of the 144 regions to judge: those whose blur reads with confidence ≥ 0.1 (93; the
+    // confidence discounts edges whose profile does not look like a defocus).
+    REQUIRE(inFocus[1] >= 80);
     // The true blur is 0; what the regions read is the estimator's scatter on sharp texture
     // (median 1.3 px, a fifth above 1.9 px): two thirds must be within a CoC of 2 px.
     CHECK(inFocus[0] >= 2.0 / 3.0 * inFocus[1]);
