@@ -63,10 +63,11 @@ stream = [r for r in rows if r["what"] == "blur_stream"]
 assert len(stream) == 1 and (stream[0]["width"], stream[0]["height"]) == (1920, 1080), stream
 s = stream[0]
 assert "baseline_ms" in s, s
-m = re.search(r"a frame: ([\d.]+) regions with an edge, ([\d.]+) within 10 % of the true disc "
-              r"\(searching every frame: ([\d.]+), ([\d.]+)\)", s["note"])
+m = re.search(r"a frame: ([\d.]+) regions with an edge, ([\d.]+) within 10 % of the true disc, "
+              r"([\d.]+) confident \(>= 0.25\), (\d+) % of those within 10 % "
+              r"\(searching every frame: ([\d.]+), ([\d.]+), ([\d.]+), (\d+) %\)", s["note"])
 assert m, s["note"]
-regions, near, searched, searched_near = map(float, m.groups())
+regions, near, _, _, searched, searched_near, _, _ = map(float, m.groups())
 assert searched >= 80 and searched_near >= 20, s["note"]  # the comparison is not empty
 assert regions >= 0.8 * searched and near >= 0.8 * searched_near, s["note"]
 PY
