@@ -28,6 +28,10 @@ void writeFile(const std::string& path, const uint8_t* data, size_t size);
 /// The whole of file @p path; aborts when it cannot be read.
 std::vector<uint8_t> readFile(const std::string& path);
 
+/// Opens the source named @p text and, if it starts, reads up to 16 frames, each converted to
+/// luma (a frame that fails is skipped; the end of the stream ends the reading).
+void readSource(const std::string& text);
+
 /// Takes leading bytes of an input as small integers, then leaves the rest as a payload.
 class Bytes {
 public:

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "infocus/luma.h"
+#include "infocus/source.h"
 #include "tests/fuzz/fuzz.h"
 
 namespace infocus::fuzz {
@@ -45,6 +47,21 @@ std::vector<uint8_t> readFile(const std::string& path) {
         std::abort();
     }
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void readSource(const std::string& text) {
+    auto source = openSource(text);
+    if (!source || !(*source)->start()) return;
+    LumaConverter luma;
+    for (int i = 0; i < 16; ++i) {
+        auto frame = (*source)->next();
+        if (!frame) {
+            if (frame.error().kind == ErrorKind::EndOfStream) break;
+            continue;
+        }
+        (void)luma.toLuma8(*frame);
+    }
+    (*source)->stop();
 }
 
 }  // namespace infocus::fuzz

@@ -11,9 +11,7 @@
 #include <filesystem>
 #include <string>
 
-#include "infocus/luma.h"
 #include "infocus/recording.h"
-#include "infocus/source.h"
 #include "replay/recording_format.h"
 #include "tests/fuzz/fuzz.h"
 
@@ -102,17 +100,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::string text = dir;
     if (flags & 2) text += ",loop=1";
     if (flags & 12) text += ",start=" + std::to_string((flags >> 2) & 3);
-    auto source = openSource(text);
-    if (!source || !(*source)->start()) return 0;
-    LumaConverter luma;
-    for (int i = 0; i < 16; ++i) {
-        auto frame = (*source)->next();
-        if (!frame) {
-            if (frame.error().kind == ErrorKind::EndOfStream) break;
-            continue;
-        }
-        (void)luma.toLuma8(*frame);
-    }
-    (*source)->stop();
+    fuzz::readSource(text);
     return 0;
 }

@@ -2,8 +2,6 @@
 // The Y4M reader and its playback: any bytes as a .y4m file, every frame read and converted.
 #include <string>
 
-#include "infocus/luma.h"
-#include "infocus/source.h"
 #include "tests/fuzz/fuzz.h"
 
 namespace infocus::fuzz {
@@ -35,19 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     static const std::string path = fuzz::scratchDir() + "/input.y4m";
     fuzz::writeFile(path, data, size);
     // Looping from frame 1 too: playback's seeking and timestamps across passes.
-    for (const char* options : {"", ",loop=1,start=1"}) {
-        auto source = openSource(path + options);
-        if (!source || !(*source)->start()) continue;
-        LumaConverter luma;
-        for (int i = 0; i < 16; ++i) {
-            auto frame = (*source)->next();
-            if (!frame) {
-                if (frame.error().kind == ErrorKind::EndOfStream) break;
-                continue;
-            }
-            (void)luma.toLuma8(*frame);
-        }
-        (*source)->stop();
-    }
+    for (const char* options : {"", ",loop=1,start=1"})
+        fuzz::readSource(path + options);
     return 0;
 }
