@@ -12,7 +12,8 @@ namespace infocus::stack_detail {
 
 namespace {
 
-// Blur widths above this share of a region's shorter side are left out of its V.
+// Blur widths above this share of a region's shorter side are left out of its V: on texture a
+// disc wider than about a sixth of the region reads low (docs/blur.md, Textured scenes).
 constexpr double kMaxBlurShare = 0.15;
 // A blur V whose arms rise over the stack by less than this many times its RMS residual is a
 // cloud of readings, not a V: its vertex is not reported.
@@ -147,8 +148,8 @@ double onV(double x, std::optional<double> pole) {
 BlurReadings blurReadings(const StackRegion& g, const StackResult& r) {
     BlurReadings out;
     for (size_t i = 0; i < r.frames.size(); ++i) {
-        // A blur wider than a quarter of the region leaves no room for an edge's profile
-        // inside it: such a reading mixes in the neighbours' depths.
+        // A blur wider than kMaxBlurShare of the region reads low on texture and leaves little
+        // room for an edge's profile inside it: such a reading mixes in the neighbours' depths.
         if (!g.usable[i] || !g.blurWidth[i] ||
             !(*g.blurWidth[i] <= kMaxBlurShare * std::min(g.rect.w, g.rect.h)))
             continue;
