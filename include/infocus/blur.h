@@ -114,7 +114,10 @@ struct EdgeMeasurement {
     double noise = 0.0;      ///< grey-level spread of the pixels beside the edge
     double sigmaPx = 0.0;    ///< σ of the PSF's projection, pixel area removed
     double riseRawPx = 0.0;  ///< 10–90 % rise of the sampled ESF (pixel area included)
-    double edgeWidthPx = 0.0;     ///< 10–90 % rise with pixel area and binning removed
+    double edgeWidthPx = 0.0;  ///< 10–90 % rise with pixel area and binning removed
+    /// Whether edgeWidthPx was read off a finely sampled ESF; near 0° and 45°, where the ESF is
+    /// sampled at whole-pixel spacing, it is the Gaussian rise of sigmaPx instead.
+    bool riseMeasured = false;
     double straightnessPx = 0.0;  ///< RMS deviation of the edge from a straight line
     double quality = 0.0;         ///< 0..1 from contrast-to-noise and straightness
     /// Halos of in-camera sharpening: the lesser of the two sides' excursions past their far

@@ -32,6 +32,7 @@ EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, const BinLi
     const bool dense = f.binVar <= 2.0 * o.binPx * o.binPx / 6.0;
     m.edgeWidthPx = dense ? std::sqrt(std::max(0.0, f.rise * f.rise - floorRise2))
                           : kGaussianRisePerSigma * m.sigmaPx;
+    m.riseMeasured = dense;
     m.straightnessPx = straight;
     // Halos only where a region may count them (blurFromEdges): a clean, sharp edge.
     if (m.sigmaPx <= kHaloSigmaPx && f.contrast >= kCleanCnr * std::max(f.noise, 0.5))

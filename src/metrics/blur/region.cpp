@@ -111,7 +111,7 @@ double profileMatch(const EdgeMeasurement& e, double binPx) {
     const double sd = std::sqrt(e.sigmaPx * e.sigmaPx + kPixelVariance + binPx * binPx / 6.0);
     const double bend = relativeBend(e.straightnessPx, sd);
     double off = 0.0;
-    if (e.edgeWidthPx != kGaussianRisePerSigma * e.sigmaPx && sd > 0.0) {
+    if (e.riseMeasured && sd > 0.0) {
         const double ratio = e.riseRawPx / sd;
         off = ratio < kRiseLo   ? std::log(kRiseLo / std::max(ratio, 1e-6))
               : ratio > kRiseHi ? std::log(ratio / kRiseHi)
@@ -267,7 +267,7 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
     // with the edge's own softness (a rounded body, a shadow, a printed gradient), which only
     // widens it: no edge in focus at that depth is sharper than the blur, so the smallest σ
     // bounds it and wider edges are soft objects or edges at another depth. Only trusted edges
-    // may set it: at least 0.3 × the region's best rank, and a contrast at least 5 × the
+    // may set it: at least 0.3 × the region's best quality, and a contrast at least 5 × the
     // grey-level spread beside the edge. A cluttered edge (another edge or a corner in its
     // plateaus) can read narrow, and one such edge must not decide the region.
     // The edges within 25 % of the sharpest (15 % from σ 8 px), either side, are averaged in
