@@ -17,6 +17,11 @@ constexpr double kStraightShare = 0.5;
 // quality, and a contrast of this many times the grey-level spread beside it.
 constexpr double kTrustedQuality = 0.3, kTrustedCnr = 5.0;
 
+// The most an edge's rise-to-σ ratio may lie outside a defocus PSF's range (riseOffset) for
+// it to set the region: beyond a quarter, its window closed on clutter or its plateaus hold
+// another edge, and its σ says little about the blur.
+constexpr double kTrustedRiseOffset = 0.22;
+
 // Quality above which an edge counts towards a region's blur at all.
 constexpr double kUsableQuality = 0.05;
 
@@ -101,22 +106,31 @@ std::optional<EdgeMeasurement> measureSeed(const Luma8& luma, const RegionSetup&
     return best;
 }
 
+// The spread edge @p e was measured with (px): σ, the pixel and the bins of @p binPx. A slanted
+// edge's bins spread by h²/6 about their centres (docs/blur.md, Floors removed).
+double measuredSpread(const EdgeMeasurement& e, double binPx) {
+    return std::sqrt(e.sigmaPx * e.sigmaPx + kPixelVariance + binPx * binPx / 6.0);
+}
+
+// How far (a log ratio, 0 inside) edge @p e's rise-to-σ ratio lies outside the range of a
+// defocus PSF, [kRiseLo, kRiseHi]; 0 where the rise is not measured.
+double riseOffset(const EdgeMeasurement& e, double binPx) {
+    const double sd = measuredSpread(e, binPx);
+    if (!e.riseMeasured || !(sd > 0.0)) return 0.0;
+    const double ratio = e.riseRawPx / sd;
+    return ratio < kRiseLo   ? std::log(kRiseLo / std::max(ratio, 1e-6))
+           : ratio > kRiseHi ? std::log(ratio / kRiseHi)
+                             : 0.0;
+}
+
 // How far edge @p e (ESF bins of @p binPx) looks like a defocused straight edge, 0..1: its
 // rise-to-σ ratio in the range of a defocus PSF, and its bend counted a second time (the quality
 // has e^(−bend²) already): on textured scenes a bend of 0.6 reads over 10 % wide more often than
 // not. The ratio is not judged where the engine reports the Gaussian's rise of the measured σ in
 // place of a measured one (an ESF sampled at whole-pixel spacing, near 0° and 45°).
 double profileMatch(const EdgeMeasurement& e, double binPx) {
-    // A slanted edge's bins spread by h²/6 about their centres (docs/blur.md, Floors removed).
-    const double sd = std::sqrt(e.sigmaPx * e.sigmaPx + kPixelVariance + binPx * binPx / 6.0);
-    const double bend = relativeBend(e.straightnessPx, sd);
-    double off = 0.0;
-    if (e.riseMeasured && sd > 0.0) {
-        const double ratio = e.riseRawPx / sd;
-        off = ratio < kRiseLo   ? std::log(kRiseLo / std::max(ratio, 1e-6))
-              : ratio > kRiseHi ? std::log(ratio / kRiseHi)
-                                : 0.0;
-    }
+    const double bend = relativeBend(e.straightnessPx, measuredSpread(e, binPx));
+    const double off = riseOffset(e, binPx);
     const double match =
         std::exp(-0.5 * bend * bend - (off / kRiseTolerance) * (off / kRiseTolerance));
     return kMatchFloor + (1.0 - kMatchFloor) * match;
@@ -278,7 +292,8 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
     double sharpest = std::numeric_limits<double>::infinity();
     for (const Ranked& g : good)
         if (g.e->quality >= kTrustedQuality * best &&
-            g.e->contrast >= kTrustedCnr * std::max(g.e->noise, 0.5))
+            g.e->contrast >= kTrustedCnr * std::max(g.e->noise, 0.5) &&
+            riseOffset(*g.e, options.binPx) <= kTrustedRiseOffset)
             sharpest = std::min(sharpest, g.e->sigmaPx);
     // A region of cluttered edges only: the sharpest of them, at their low confidence.
     if (!std::isfinite(sharpest))
@@ -287,11 +302,16 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
     // Noise scatters narrow edges by a few per cent, so their band is wide; a wide blur reads
     // within a per cent or two, and an edge 20 % wider than it is a segment cut across a corner.
     const double band = std::clamp(0.25 - 0.025 * (sharpest - 4.0), 0.15, 0.25);
+    // Widths are compared as the spread the edge was measured with, pixel included: a blur well
+    // under a pixel is seen through the pixel's own spread, and σ of 0 and 0.2 px differ by less
+    // than sampling scatters them.
+    const auto spread = [](double sigma) { return std::sqrt(sigma * sigma + kPixelVariance); };
+    const double sharpestSpread = spread(sharpest);
     double sw = 0, sv = 0, sr = 0, sh = 0, shw = 0, sRank = 0;
     int agreeing = 0;
     for (const Ranked& g : good) {
         const EdgeMeasurement* e = g.e;
-        if (std::abs(e->sigmaPx - sharpest) > band * sharpest + 0.05) continue;
+        if (std::abs(spread(e->sigmaPx) - sharpestSpread) > band * sharpestSpread) continue;
         sw += e->quality;
         sv += e->quality * e->sigmaPx * e->sigmaPx;
         sr += e->quality * e->edgeWidthPx * e->edgeWidthPx;
