@@ -45,11 +45,13 @@ struct BlurOptions {
 /// The blur of one region. All widths are in pixels of the analysed image, with the pixel area
 /// (and opticsFloorSigmaPx) removed; fields are empty when no usable edge was found.
 struct BlurEstimate {
-    std::optional<double> edgeWidthPx;     ///< 10–90 % edge rise (Gaussian: 2.5631 σ)
-    std::optional<double> sigmaPx;         ///< Gaussian-model σ (equal second moment)
-    std::optional<double> discDiameterPx;  ///< uniform-disc diameter, the thin-lens ΔX_i
-    double confidence = 0.0;               ///< 0..1, 0 when the fields are empty
-    int edgeCount = 0;                     ///< edges used
+    std::optional<double> edgeWidthPx;  ///< 10–90 % edge rise (Gaussian: 2.5631 σ)
+    std::optional<double> sigmaPx;      ///< Gaussian-model σ (equal second moment)
+    /// Uniform-disc diameter, the thin-lens ΔX_i: 4 σ, but no wider than the disc whose 10–90 %
+    /// rise is edgeWidthPx (+3 %), since light beyond the core widens σ more than the rise.
+    std::optional<double> discDiameterPx;
+    double confidence = 0.0;  ///< 0..1, 0 when the fields are empty
+    int edgeCount = 0;        ///< edges used
     /// Sharpening halos beside the region's clean sharp edges (EdgeMeasurement::haloFraction,
     /// quality-weighted over the agreeing edges of σ ≤ 2 px and contrast ≥ 20 × the spread
     /// beside them); empty where there is no such edge. Not corrected for: see docs/blur.md.

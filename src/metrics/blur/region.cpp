@@ -38,6 +38,10 @@ constexpr int kMaxEdgesPerRegion = 256, kMaxCandidateStep = 64;
 // e^(−(ln(excess)/kRiseTolerance)²): 5 % out costs 63 %.
 constexpr double kRiseLo = 2.55, kRiseHi = 2.8, kRiseTolerance = 0.05;
 
+// The disc's 10–90 % rise per diameter (a uniform disc's edge), and how far the moment's disc
+// may exceed the disc of the measured rise (blurFromEdges).
+constexpr double kDiscRisePerDiameter = 0.68705, kDiscRiseSlack = 0.03;
+
 // The least share of its quality an edge keeps in the confidence however unlike a defocused edge
 // it looks.
 constexpr double kMatchFloor = 0.4;
@@ -309,6 +313,7 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
     const double sharpestSpread = spread(sharpest);
     double sw = 0, sv = 0, sr = 0, sh = 0, shw = 0, sRank = 0;
     int agreeing = 0;
+    bool measuredRise = true;
     for (const Ranked& g : good) {
         const EdgeMeasurement* e = g.e;
         if (std::abs(spread(e->sigmaPx) - sharpestSpread) > band * sharpestSpread) continue;
@@ -318,6 +323,7 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
         if (e->contrast >= kCleanCnr * std::max(e->noise, 0.5) && e->sigmaPx <= kHaloSigmaPx)
             sh += e->quality * e->haloFraction, shw += e->quality;
         sRank += g.rank;
+        measuredRise = measuredRise && e->riseMeasured;
         ++agreeing;
     }
     const double sigma = std::sqrt(sv / sw), width = std::sqrt(sr / sw);
@@ -328,6 +334,13 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
     est.discDiameterPx = 4.0 * s;
     est.edgeWidthPx = std::sqrt(
         std::max(0.0, width * width - kGaussianRisePerSigma * kGaussianRisePerSigma * floor2));
+    // Light beyond the core that the second moment weighs by distance² (crowded texture, another
+    // edge within reach of the blur) widens σ and barely moves the rise: the disc is no wider than
+    // the one whose rise is the measured rise, to within the rise's own scatter on clean edges.
+    // Near 0° and 45° the rise is not read (EdgeMeasurement::riseMeasured) and 4 σ stands.
+    if (measuredRise)
+        est.discDiameterPx = std::min(
+            *est.discDiameterPx, (1.0 + kDiscRiseSlack) * *est.edgeWidthPx / kDiscRisePerDiameter);
     est.edgeCount = agreeing;
     if (shw > 0) est.haloFraction = sh / shw;
     // Confidence: mean rank of the agreeing edges, more edges better, discounted by the
