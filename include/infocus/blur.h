@@ -17,7 +17,9 @@ namespace infocus {
 /// Tuning knobs of measureBlur; the defaults suit 8-bit video-rate use. A value outside a knob's
 /// range is taken as the nearest one inside it, and one that is not a number as the default.
 struct BlurOptions {
-    int maxEdges = 4;       ///< edge segments measured per region, 1..256 (more: slower, steadier)
+    /// Edge segments measured per region, 1..256 (more: slower, steadier); a region where fewer
+    /// than three of them agree measures as many again.
+    int maxEdges = 4;
     int candidateStep = 2;  ///< grid step (px) of the cheap gradient that finds edges, 1..64
     /// Half-length of each edge segment along the edge, px, 6..500; 0: a quarter of the
     /// region's smaller side, clamped to 8..48.
@@ -50,8 +52,10 @@ struct BlurEstimate {
     /// Uniform-disc diameter, the thin-lens ΔX_i: 4 σ, but no wider than the disc whose 10–90 %
     /// rise is edgeWidthPx (+3 %), since light beyond the core widens σ more than the rise.
     std::optional<double> discDiameterPx;
-    double confidence = 0.0;  ///< 0..1, 0 when the fields are empty
-    int edgeCount = 0;        ///< edges used
+    /// 0..1, 0 when the fields are empty; under kLowBlurConfidence when one segment alone sets
+    /// the region.
+    double confidence = 0.0;
+    int edgeCount = 0;  ///< edges used
     /// Sharpening halos beside the region's clean sharp edges (EdgeMeasurement::haloFraction,
     /// quality-weighted over the agreeing edges of σ ≤ 2 px and contrast ≥ 20 × the spread
     /// beside them); empty where there is no such edge. Not corrected for: see docs/blur.md.
