@@ -16,17 +16,6 @@ namespace infocus::bench {
 
 namespace {
 
-// Natural-like texture (dead leaves) with a few slanted squares: the kind of scene a focus
-// assistant sees.
-synth::SharpCanvas makeScene(int w, int h) {
-    synth::SharpCanvas canvas = synth::makeCanvas(w, h, 2);
-    synth::paintDeadLeaves(canvas, 2024, 4.0, 120.0);
-    for (int i = 0; i < 12; ++i)
-        synth::paint(canvas, synth::squareScene(160.0 + 140.0 * i, 200.0 + 60.0 * (i % 5), 90.0,
-                                                5.0 + 7.0 * i, i % 2 ? 30.0f : 220.0f));
-    return canvas;
-}
-
 // The scene defocused by a disc of @p discPx, 8-bit with 1 grey level of noise (seed @p seed).
 Image<uint8_t> makeFrame(const synth::SharpCanvas& scene, double discPx, uint64_t seed = 7) {
     return synth::toLuma8(
@@ -221,7 +210,7 @@ void benchBlur(const BenchOptions& options, const RowSink& sink) {
     const std::vector<Rect> regions = gridRegions(w, h, 16, 9);
     // The engine samples each edge over about ±4.5 σ of its blur, so its time grows with the
     // blur: a frame near focus (a 4 px disc) and one well out of focus (12 px).
-    const synth::SharpCanvas scene = makeScene(w, h);
+    const synth::SharpCanvas scene = synth::deadLeavesWithSquares(w, h);
     for (const double discPx : {4.0, 12.0}) {
         const Image<uint8_t> frame = makeFrame(scene, discPx);
         const Luma8 view = frame.view();

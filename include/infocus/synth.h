@@ -138,6 +138,11 @@ void paint(SharpCanvas& canvas, const Scene& scene);
 void paintDeadLeaves(SharpCanvas& canvas, uint64_t seed, double minRadiusPx = 2.0,
                      double maxRadiusPx = 60.0, float lo = 30.0f, float hi = 225.0f);
 
+/// The bench's scene, a focus assistant's kind of view: dead leaves (radii 4–120 px, seed 2024)
+/// on a @p width × @p height canvas sampled 2 × finer, with twelve 90 px squares at 5–82°,
+/// alternately dark and light, across its upper half (laid out for 1920 × 1080).
+SharpCanvas deadLeavesWithSquares(int width, int height);
+
 /// Images @p canvas through @p imaging: blurs the fine samples by the PSF, averages each pixel's
 /// supersample² fine samples (pixel-area integration), adds noise. imaging.supersample is
 /// ignored (the canvas's own is used).

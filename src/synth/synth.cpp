@@ -321,6 +321,15 @@ void paintDeadLeaves(SharpCanvas& canvas, uint64_t seed, double minRadiusPx, dou
     }
 }
 
+SharpCanvas deadLeavesWithSquares(int width, int height) {
+    SharpCanvas canvas = makeCanvas(width, height, 2);
+    paintDeadLeaves(canvas, 2024, 4.0, 120.0);
+    for (int i = 0; i < 12; ++i)
+        paint(canvas, squareScene(160.0 + 140.0 * i, 200.0 + 60.0 * (i % 5), 90.0, 5.0 + 7.0 * i,
+                                  i % 2 ? 30.0f : 220.0f));
+    return canvas;
+}
+
 SynthImage renderSharp(const SharpCanvas& canvas, const Imaging& imaging) {
     const int k = canvas.supersample;
     Image<float> fine = canvas.fine;  // shares pixels: only read below
