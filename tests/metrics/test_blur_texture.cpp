@@ -96,3 +96,30 @@ TEST_CASE("on the simulated camera's textured scenes, confident readings are wit
     CHECK(b.within[2] * b.count[1] >= b.within[1] * b.count[2]);
     CHECK(b.within[1] * b.count[0] >= b.within[0] * b.count[1]);
 }
+
+TEST_CASE("on the bench's focus-pull scene, confident readings are within 10 %", "[blur]") {
+    // The scene of the bench's blur_stream row (dense dead leaves with twelve squares) at the
+    // pull's discs of 4–12 px, each frame with its own noise as the bench renders it, every
+    // region searched: 16×9 regions of 1080p. Measured: 343 of 1 130 readings at confidence 0.25
+    // or more, 266 of them (77.6 %) within 10 % of the true disc. The share must reach 75 %, and
+    // not by refusing nearly every region: at least a quarter of the readings keep 0.25 or more.
+    const synth::SharpCanvas scene = synth::deadLeavesWithSquares(1920, 1080);
+    const std::vector<Rect> regions = gridRegions(1920, 1080, 16, 9);
+    int readings = 0, confident = 0, confidentWithin = 0;
+    for (int d = 4; d <= 12; ++d) {
+        const auto img = synth::toLuma8(
+            synth::renderSharp(scene, {synth::Psf::disc(d), 2, 1.0, uint64_t(100 + d)}).pixels);
+        for (const BlurEstimate& b : measureBlurRegions(img.view(), regions)) {
+            if (!b.discDiameterPx) continue;
+            ++readings;
+            if (b.confidence < kLowBlurConfidence) continue;
+            ++confident;
+            confidentWithin += std::abs(*b.discDiameterPx / d - 1.0) <= 0.10;
+        }
+    }
+    INFO(confident << " of " << readings << " readings at confidence 0.25 or more, "
+                   << confidentWithin << " of them within 10 %");
+    REQUIRE(readings >= 1000);
+    CHECK(4 * confident >= readings);
+    CHECK(confidentWithin >= 0.75 * confident);
+}
