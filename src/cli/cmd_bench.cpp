@@ -68,7 +68,7 @@ Result<std::vector<Image<uint8_t>>> readFrames(const std::string& source, uint64
 }
 
 // The blur engine's accuracy table: true vs measured width on synthetic edges.
-int runAccuracyTable(const bench::BenchModule& module, bool json) {
+void runAccuracyTable(const bench::BenchModule& module, bool json) {
     const auto& angles = module.accuracyAngles();
     if (!json) {
         std::printf(
@@ -116,7 +116,6 @@ int runAccuracyTable(const bench::BenchModule& module, bool json) {
         std::fflush(stdout);
     });
     if (!json) std::printf("%d row(s) inside the target ranges missed their tolerance\n", misses);
-    return 0;
 }
 
 // The slanted-square figures over a set of cases: how many read with confidence, and the 95th
@@ -154,9 +153,8 @@ SquareSummary summarise(const std::vector<bench::SquareRow>& rows) {
     return s;
 }
 
-// The slanted-square table: each random case, then the summary lines the test reads. Returns
-// whether every line met its targets.
-bool runSquareTable(const bench::BenchModule& module, bool json) {
+// The slanted-square table: each random case, then the summary lines the test reads.
+void runSquareTable(const bench::BenchModule& module, bool json) {
     if (!json) {
         std::printf(
             "\nblur accuracy: slanted squares, %d random cases (seed %llu), each frame one "
@@ -232,7 +230,6 @@ bool runSquareTable(const bench::BenchModule& module, bool json) {
             "%%) %s\n",
             bench::kSquareConfidentSharePct, bench::kSquareP95Pct, bench::kSquareWorstPct,
             met ? "met" : "missed");
-    return met;
 }
 
 // A live row's targets: no frame dropped; at 1080p also the latency within one frame interval

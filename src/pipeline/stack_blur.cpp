@@ -49,8 +49,10 @@ double flooredAt(const std::vector<std::array<double, 3>>& pts, double q0, BlurV
     f.slopePxPerUnit = std::sqrt(k2);
     f.floorPx = std::sqrt(f2);
     double cost = 0;
-    for (const auto& [q, b, w] : pts)
-        cost += w * (b - flooredV(f, q)) * (b - flooredV(f, q));
+    for (const auto& [q, b, w] : pts) {
+        const double r = b - flooredV(f, q);
+        cost += w * r * r;
+    }
     return cost;
 }
 

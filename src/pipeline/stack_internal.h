@@ -24,8 +24,8 @@ struct BlurReadings {
     std::vector<double> x, b, w;
 };
 
-/// The readings of @p g on @p r's axis: measured frames whose width is at most a quarter of the
-/// region's shorter side (a wider blur leaves no room for an edge's profile inside it).
+/// The readings of @p g on @p r's axis: measured frames whose width is at most 0.15 of the
+/// region's shorter side (a wider blur reads low on texture).
 BlurReadings blurReadings(const StackRegion& g, const StackResult& r);
 
 /// StackResult::blurPole for @p r's textured regions' readings: among none and poles at 1/16 to

@@ -191,9 +191,7 @@ std::optional<EdgeMeasurement> measureClearOfEnds(const Luma8& img, const Bounds
     Patch again = whole;
     const Trim t = trimToEdge(again, probe, probeSlices, probeHalfLength, 3.0 * m->sigmaPx + 1.0,
                               minHalfLengthPx);
-    if (t == Trim::Whole) return m;
-    if (t == Trim::TooShort) return m;
-    if (again.hl >= firstHalfLength - 0.5) return m;
+    if (t != Trim::Trimmed || again.hl >= firstHalfLength - 0.5) return m;
     patch = again;
     return measureTrimmed(img, b, o, k, patch, t, threshold, line, slices, track);
 }

@@ -124,9 +124,8 @@ double measuredSpread(const EdgeMeasurement& e, double binPx) {
 // How far (a log ratio, 0 inside) edge @p e's rise-to-σ ratio lies outside the range of a
 // defocus PSF, [kRiseLo, kRiseHi]; 0 where the rise is not measured.
 double riseOffset(const EdgeMeasurement& e, double binPx) {
-    const double sd = measuredSpread(e, binPx);
-    if (!e.riseMeasured || !(sd > 0.0)) return 0.0;
-    const double ratio = e.riseRawPx / sd;
+    if (!e.riseMeasured) return 0.0;
+    const double ratio = e.riseRawPx / measuredSpread(e, binPx);
     return ratio < kRiseLo   ? std::log(kRiseLo / std::max(ratio, 1e-6))
            : ratio > kRiseHi ? std::log(ratio / kRiseHi)
                              : 0.0;
