@@ -34,20 +34,17 @@ constexpr float kDark = 40.0f;
 constexpr float kBright = 215.0f;
 constexpr int kSupersample = 8;
 
-// The frame for @p psf: each cell rendered exactly (the scene's area average over each pixel of
-// the blurred fine samples, no resampling), then pasted. Cells are rendered alone so that the
-// disc's convolution runs on 1920² fine samples rather than the whole frame's.
+// The frame for @p psf: each cell's square rendered exactly (synth::renderSquare: the blurred
+// square's area average over each pixel, no resampling), then pasted.
 std::vector<uint8_t> renderFrame(const Psf& psf) {
     std::vector<uint8_t> luma(size_t(kWidth) * kHeight);
-    infocus::synth::Imaging imaging;
-    imaging.psf = psf;
+    const infocus::synth::Imaging imaging{psf, kSupersample, 0.0, 1};
     for (int cy = 0; cy < kHeight / kCell; ++cy)
         for (int cx = 0; cx < kWidth / kCell; ++cx) {
-            auto canvas = infocus::synth::makeCanvas(kCell, kCell, kSupersample, kBright);
-            infocus::synth::paint(canvas,
-                                  infocus::synth::squareScene(kCell / 2.0, kCell / 2.0, kSidePx,
-                                                              kAngleDeg[cy * 3 + cx], kDark));
-            const auto img = infocus::synth::toLuma8(renderSharp(canvas, imaging).pixels);
+            const infocus::synth::Square square{
+                kCell / 2.0, kCell / 2.0, kSidePx, kAngleDeg[cy * 3 + cx], kDark, kBright};
+            const auto img = infocus::synth::toLuma8(
+                infocus::synth::renderSquare(kCell, kCell, square, imaging).pixels);
             for (int y = 0; y < kCell; ++y)
                 for (int x = 0; x < kCell; ++x)
                     luma[size_t(cy * kCell + y) * kWidth + cx * kCell + x] = img.at(x, y);
