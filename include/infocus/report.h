@@ -17,6 +17,7 @@
 #include "infocus/error.h"
 #include "infocus/image.h"
 #include "infocus/optics.h"
+#include "infocus/stack.h"
 
 namespace infocus {
 
@@ -71,5 +72,11 @@ private:
 /// through (its target replaced, the link kept); a device or FIFO is written directly, never
 /// replaced. Errors name the path.
 Status writeFileAtomically(const std::string& path, const std::string& text);
+
+/// The self-contained HTML report of a stack: the focus map with its legend, the composite, and
+/// the curves of a few regions with their sharpness peaks and blur V fits. @p focusMapPng and
+/// @p compositePng are PNG files' bytes (may be empty).
+std::string stackReportHtml(const StackResult& r, const std::string& focusMapPng,
+                            const std::string& compositePng);
 
 }  // namespace infocus

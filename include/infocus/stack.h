@@ -141,10 +141,4 @@ struct StackAgreement {
 };
 StackAgreement stackAgreement(const StackResult& r);
 
-/// The self-contained HTML report of a stack: the focus map with its legend, the composite, and
-/// the curves of a few regions with their sharpness peaks and blur V fits. @p focusMapPng and
-/// @p compositePng are PNG files' bytes (may be empty).
-std::string stackReportHtml(const StackResult& r, const std::string& focusMapPng,
-                            const std::string& compositePng);
-
 }  // namespace infocus

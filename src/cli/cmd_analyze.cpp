@@ -11,8 +11,8 @@
 
 #include "commands.h"
 #include "infocus/analysis.h"
+#include "infocus/analysis_output.h"
 #include "infocus/metrics.h"
-#include "infocus/output.h"
 #include "infocus/pipeline.h"
 #include "infocus/source.h"
 #include "parse.h"

@@ -8,7 +8,7 @@
 
 #include "commands.h"
 #include "infocus/dof.h"
-#include "infocus/output.h"
+#include "infocus/dof_output.h"
 #include "lens_options.h"
 
 namespace infocus::cli {

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "infocus/output.h"
+#include "infocus/analysis_output.h"
 #include "json_fields.h"
 #include "src/core/read_number.h"
 

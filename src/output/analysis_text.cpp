@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
+#include "infocus/analysis_output.h"
 #include "infocus/blur.h"
-#include "infocus/output.h"
 
 namespace infocus {
 

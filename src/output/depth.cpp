@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "infocus/output.h"
+#include "infocus/depth_output.h"
 #include "json_fields.h"
 #include "print.h"
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "infocus/output.h"
+#include "infocus/dof_output.h"
 #include "print.h"
 
 namespace infocus {

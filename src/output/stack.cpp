@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "infocus/output.h"
+#include "infocus/stack_output.h"
 #include "json_fields.h"
 #include "print.h"
 

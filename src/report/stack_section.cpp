@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
-// The stack section of the HTML report (stackReportHtml in include/infocus/stack.h): the focus
+// The stack section of the HTML report (stackReportHtml in include/infocus/report.h): the focus
 // map, the composite, and a few regions' curves with their peaks and blur V fits, all inline.
 #include <algorithm>
 #include <cmath>
 
 #include "html.h"
+#include "infocus/report.h"
 #include "infocus/stack.h"
 #include "infocus/units.h"
 
