@@ -9,9 +9,9 @@
 #include <string>
 
 #include "commands.h"
-#include "infocus/output.h"
 #include "infocus/report.h"
 #include "infocus/stack.h"
+#include "infocus/stack_output.h"
 #include "parse.h"
 
 namespace infocus::cli {
@@ -61,8 +61,9 @@ Status writeOutputs(const std::string& dir, const StackResult& r) {
         if (!png) return png.error();
         mapPng = std::move(*png);
         int w = 0, h = 0;
-        const std::vector<uint8_t> rgb = focusMapColour(r, 1024, w, h);
-        auto c = encodePng(w, h, 3, 8, rgb.data());
+        const auto rgb = focusMapColour(r, 1024, w, h);
+        if (!rgb) return rgb.error();
+        auto c = encodePng(w, h, 3, 8, rgb->data());
         if (!c) return c.error();
         colourPng = std::move(*c);
         auto comp = encodePng(r.width, r.height, 1, 8, r.composite.data());

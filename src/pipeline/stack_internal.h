@@ -38,10 +38,4 @@ std::optional<double> chooseBlurPole(const std::vector<BlurReadings>& regions,
 /// vertex or when its arms do not rise above 3 times its RMS residual.
 std::optional<BlurVFit> fitRegionBlurV(const BlurReadings& in, const StackResult& r);
 
-/// The all-in-focus composite of @p lumas (one tightly packed @p width × @p height image a
-/// frame) drawn by @p map; @p fallbackFrame fills a map without any textured cell.
-std::vector<uint8_t> composeAllInFocus(const FocusMap& map,
-                                       const std::vector<std::vector<uint8_t>>& lumas, int width,
-                                       int height, double fallbackFrame);
-
 }  // namespace infocus::stack_detail
