@@ -65,6 +65,14 @@ struct TransferReport {
     std::string origin;
 };
 
+/// The optics a source knows of itself (the simulated camera knows its lens and sensor).
+struct SourceOptics {
+    double focalLengthM = 0.0;     ///< f
+    double fNumber = 0.0;          ///< N
+    double pixelPitchM = 0.0;      ///< metres per pixel of the frames delivered
+    double sensorDiagonalM = 0.0;  ///< the imaged area's diagonal; 0 when unknown
+};
+
 /// What a source delivers, for `devices`, recordings and reports.
 struct SourceInfo {
     std::string sourceString;  ///< canonical source string that reopens this source
@@ -80,6 +88,8 @@ struct SourceInfo {
     /// How the frames' grey levels encode light, as the source says: a V4L2 format's transfer
     /// function, libcamera's colour space, a recording's header, the convention of image files.
     TransferReport transfer;
+    /// The lens and pixel size, where the source knows them.
+    std::optional<SourceOptics> optics;
 };
 
 /// Counters a source keeps while streaming.

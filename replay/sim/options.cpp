@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The simulated camera's lens and the parsing of its source-string options.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -19,154 +20,220 @@ SimLens::SimLens(const optics::LensPreset& preset)
       sensorPixelPitchM(preset.pixelPitch),
       sensorSize{preset.sensorWidthPx, preset.sensorHeightPx} {}
 
+namespace {
+
+// What a bad value should have been; empty when the value was taken.
+using Want = std::string;
+
+// A length with a unit (readLength: m, cm, mm, um or µm, nm), positive. A bare number is
+// ambiguous and refused.
+std::optional<double> length(const std::string& v) {
+    auto m = readLength(v);
+    if (m && *m > 0) return m;
+    return std::nullopt;
+}
+
+// WIDTHxHEIGHT within [1, @p most] each, read whole (sscanf's %d overflows undefinedly).
+std::optional<Size> sizeOf(const std::string& v, int most) {
+    const size_t x = v.find_first_of("xX");
+    int w = 0, h = 0;
+    if (x == std::string::npos || !readsWhole(std::string_view(v).substr(0, x), w) ||
+        !readsWhole(std::string_view(v).substr(x + 1), h) || w < 1 || h < 1 || w > most || h > most)
+        return std::nullopt;
+    return Size{w, h};
+}
+
+// One of @p names for @p v, its value from @p values at the same index.
+template <class T, size_t N>
+std::optional<T> choice(const std::string& v, const std::array<const char*, N>& names,
+                        const std::array<T, N>& values) {
+    for (size_t i = 0; i < N; ++i)
+        if (v == names[i]) return values[i];
+    return std::nullopt;
+}
+
+Want scene(SimConfig& c, const std::string& v) {
+    const auto s =
+        choice<SimScene, 4>(v, {"plane", "steps", "tilted", "edges"},
+                            {SimScene::Plane, SimScene::Steps, SimScene::Tilted, SimScene::Edges});
+    if (!s) return "use plane, steps, tilted or edges";
+    c.scene = *s;
+    return {};
+}
+
+Want focus(SimConfig& c, const std::string& v) {
+    if (v == "inf") {
+        c.focusDioptres = 0;
+    } else if (v.size() > 3 && v.compare(v.size() - 3, 3, "dpt") == 0) {
+        auto d = replay::parseNumber(v.substr(0, v.size() - 3));
+        if (!d) return "dioptres must be a number ≥ 0, e.g. 0.8dpt";
+        c.focusDioptres = *d;
+    } else if (auto m = length(v)) {
+        c.focusDioptres = 1.0 / *m;
+    } else {
+        return "give a distance with a unit (1.2m) or dioptres (0.8dpt)";
+    }
+    return {};
+}
+
+Want distance(SimConfig& c, const std::string& v) {
+    auto m = length(v);
+    if (!m) return "give a distance with a unit, e.g. 1m or 80cm";
+    c.distancesM = {*m};
+    return {};
+}
+
+Want distances(SimConfig& c, const std::string& v) {
+    c.distancesM.clear();
+    size_t start = 0;
+    while (start <= v.size()) {
+        const size_t end = std::min(v.find(':', start), v.size());
+        auto m = length(v.substr(start, end - start));
+        if (!m) return "give distances with units separated by ':'";
+        c.distancesM.push_back(*m);
+        start = end + 1;
+    }
+    return {};
+}
+
+// An angle in degrees ("30" or "30deg") within ±@p most (exclusive when @p open).
+std::optional<double> degrees(std::string v, double most, bool open) {
+    if (v.size() > 3 && v.compare(v.size() - 3, 3, "deg") == 0) v.resize(v.size() - 3);
+    char* end = nullptr;
+    const double d = std::strtod(v.c_str(), &end);
+    // NaN passes every comparison of the renderer and an infinite angle has no sine.
+    if (v.empty() || *end || !(open ? std::abs(d) < most : std::abs(d) <= most))
+        return std::nullopt;
+    return d;
+}
+
+Want tilt(SimConfig& c, const std::string& v) {
+    auto d = degrees(v, 80, true);
+    if (!d) return "give the plane's tilt in degrees within ±80, e.g. 30";
+    c.tiltDeg = *d;
+    return {};
+}
+
+Want angle(SimConfig& c, const std::string& v) {
+    auto d = degrees(v, 360, false);
+    if (!d) return "give the edges' angle in degrees within ±360, e.g. 5";
+    c.edgeAngleDeg = *d;
+    return {};
+}
+
+Want axis(SimConfig& c, const std::string& v) {
+    const auto a = choice<SimAxis, 2>(v, {"x", "y"}, {SimAxis::X, SimAxis::Y});
+    if (!a) return "use x or y";
+    c.tiltAxis = *a;
+    return {};
+}
+
+Want size(SimConfig& c, const std::string& v) {
+    // The dead-leaves texture's largest discs are a twentieth of the width: at 30 px they are
+    // no larger than its smallest, and their mean area is 0 / 0.
+    auto s = sizeOf(v, 8192);
+    if (!s || s->width < 32 || s->height < 16)
+        return "give WIDTHxHEIGHT from 32x16 to 8192x8192 pixels, e.g. 1280x720";
+    c.size = *s;
+    return {};
+}
+
+Want sensor(SimConfig& c, const std::string& v) {
+    auto s = sizeOf(v, 100000);
+    if (!s) return "give the sensor's WIDTHxHEIGHT in pixels, e.g. 4608x2592";
+    c.lens.sensorSize = *s;
+    return {};
+}
+
+Want fps(SimConfig& c, const std::string& v) {
+    auto f = replay::parseNumber(v);
+    if (!f || !(*f >= replay::kMinFps && *f <= replay::kMaxFps))
+        return "give a frame rate from 0.000001 to 1000000";
+    c.fps = *f;
+    return {};
+}
+
+Want noise(SimConfig& c, const std::string& v) {
+    auto n = replay::parseNumber(v);
+    if (!n || *n > 1) return "give σ as a fraction of full scale, 0..1";
+    c.noise = *n;
+    return {};
+}
+
+Want seed(SimConfig& c, const std::string& v) {
+    // Read as an integer: a double loses seeds past 2^53 and casts 2^64 undefinedly.
+    if (!readsWhole(v, c.seed)) return "give a whole number from 0 to 18446744073709551615";
+    return {};
+}
+
+Want format(SimConfig& c, const std::string& v) {
+    const auto f = choice<PixelFormat, 4>(
+        v, {"GREY", "grey", "YUYV", "yuyv"},
+        {PixelFormat::GREY, PixelFormat::GREY, PixelFormat::YUYV, PixelFormat::YUYV});
+    if (!f) return "use GREY or YUYV";
+    c.format = *f;
+    return {};
+}
+
+Want pace(SimConfig& c, const std::string& v) {
+    const auto p = choice<bool, 2>(v, {"camera", "fast"}, {true, false});
+    if (!p) return "use camera (real time at fps) or fast";
+    c.paced = *p;
+    return {};
+}
+
+Want focal(SimConfig& c, const std::string& v) {
+    auto m = length(v);
+    if (!m) return "give a focal length with a unit, e.g. 4.74mm";
+    c.lens.focalLengthM = *m;
+    return {};
+}
+
+Want fnumber(SimConfig& c, const std::string& v) {
+    auto n = replay::parseNumber(v);
+    if (!n || *n < 0.5 || *n > 128) return "give an f-number from 0.5 to 128, e.g. 1.8";
+    c.lens.fNumber = *n;
+    return {};
+}
+
+Want pitch(SimConfig& c, const std::string& v) {
+    auto m = length(v);
+    if (!m || *m < 0.1e-6 || *m > 1e-3)
+        return "give the sensor pixel pitch from 0.1um to 1mm with a unit, e.g. 1.4um";
+    c.lens.sensorPixelPitchM = *m;
+    return {};
+}
+
+// Every option of a sim: source string, in the order the help lists them.
+struct SimOption {
+    const char* key;
+    Want (*apply)(SimConfig&, const std::string&);
+};
+constexpr SimOption kOptions[] = {
+    {"scene", scene},   {"focus", focus}, {"distance", distance}, {"distances", distances},
+    {"tilt", tilt},     {"axis", axis},   {"angle", angle},       {"size", size},
+    {"fps", fps},       {"noise", noise}, {"seed", seed},         {"format", format},
+    {"pace", pace},     {"focal", focal}, {"fnumber", fnumber},   {"pitch", pitch},
+    {"sensor", sensor},
+};
+
+}  // namespace
+
 Result<SimConfig> parseSimOptions(const std::map<std::string, std::string>& options) {
     SimConfig c;
-    const auto bad = [](const std::string& key, const std::string& value,
-                        const std::string& want) -> Error {
-        return makeError(ErrorKind::Usage, "sim: option " + key + "=" + value + ": " + want);
-    };
-    // A length with a unit: m, cm, mm or um. A bare number is ambiguous and refused.
-    const auto length = [](const std::string& v) -> std::optional<double> {
-        static const std::pair<const char*, double> kUnits[] = {
-            {"mm", 1e-3}, {"cm", 1e-2}, {"um", 1e-6}, {"m", 1.0}};
-        for (const auto& [unit, scale] : kUnits) {
-            const size_t n = std::strlen(unit);
-            if (v.size() > n && v.compare(v.size() - n, n, unit) == 0) {
-                auto num = replay::parseNumber(v.substr(0, v.size() - n));
-                if (num && *num > 0) return *num * scale;
-                return std::nullopt;
-            }
-        }
-        return std::nullopt;
-    };
-    // WIDTHxHEIGHT within [1, @p most] each, read whole (sscanf's %d overflows undefinedly).
-    const auto sizeOf = [](const std::string& v, int most) -> std::optional<Size> {
-        const size_t x = v.find_first_of("xX");
-        int w = 0, h = 0;
-        if (x == std::string::npos || !readsWhole(std::string_view(v).substr(0, x), w) ||
-            !readsWhole(std::string_view(v).substr(x + 1), h) || w < 1 || h < 1 || w > most ||
-            h > most)
-            return std::nullopt;
-        return Size{w, h};
-    };
     for (const auto& [key, value] : options) {
-        if (key == "scene") {
-            if (value == "plane")
-                c.scene = SimScene::Plane;
-            else if (value == "steps")
-                c.scene = SimScene::Steps;
-            else if (value == "tilted")
-                c.scene = SimScene::Tilted;
-            else if (value == "edges")
-                c.scene = SimScene::Edges;
-            else
-                return bad(key, value, "use plane, steps, tilted or edges");
-        } else if (key == "focus") {
-            if (value == "inf") {
-                c.focusDioptres = 0;
-            } else if (value.size() > 3 && value.compare(value.size() - 3, 3, "dpt") == 0) {
-                auto d = replay::parseNumber(value.substr(0, value.size() - 3));
-                if (!d) return bad(key, value, "dioptres must be a number ≥ 0, e.g. 0.8dpt");
-                c.focusDioptres = *d;
-            } else if (auto m = length(value)) {
-                c.focusDioptres = 1.0 / *m;
-            } else {
-                return bad(key, value, "give a distance with a unit (1.2m) or dioptres (0.8dpt)");
-            }
-        } else if (key == "distance") {
-            auto m = length(value);
-            if (!m) return bad(key, value, "give a distance with a unit, e.g. 1m or 80cm");
-            c.distancesM = {*m};
-        } else if (key == "distances") {
-            c.distancesM.clear();
-            size_t start = 0;
-            while (start <= value.size()) {
-                const size_t end = std::min(value.find(':', start), value.size());
-                auto m = length(value.substr(start, end - start));
-                if (!m) return bad(key, value, "give distances with units separated by ':'");
-                c.distancesM.push_back(*m);
-                start = end + 1;
-            }
-        } else if (key == "tilt" || key == "angle") {
-            std::string v = value;
-            if (v.size() > 3 && v.compare(v.size() - 3, 3, "deg") == 0) v.resize(v.size() - 3);
-            char* end = nullptr;
-            const double d = std::strtod(v.c_str(), &end);
-            // NaN passes every comparison of the renderer and an infinite angle has no sine.
-            if (key == "tilt" && (v.empty() || *end || !(std::abs(d) < 80)))
-                return bad(key, value, "give the plane's tilt in degrees within ±80, e.g. 30");
-            if (key == "angle" && (v.empty() || *end || !(std::abs(d) <= 360)))
-                return bad(key, value, "give the edges' angle in degrees within ±360, e.g. 5");
-            (key == "tilt" ? c.tiltDeg : c.edgeAngleDeg) = d;
-        } else if (key == "axis") {
-            if (value == "x")
-                c.tiltAxis = SimAxis::X;
-            else if (value == "y")
-                c.tiltAxis = SimAxis::Y;
-            else
-                return bad(key, value, "use x or y");
-        } else if (key == "size") {
-            // The dead-leaves texture's largest discs are a twentieth of the width: at 30 px
-            // they are no larger than its smallest, and their mean area is 0 / 0.
-            auto s = sizeOf(value, 8192);
-            if (!s || s->width < 32 || s->height < 16)
-                return bad(key, value,
-                           "give WIDTHxHEIGHT from 32x16 to 8192x8192 pixels, e.g. 1280x720");
-            c.size = *s;
-        } else if (key == "sensor") {
-            auto s = sizeOf(value, 100000);
-            if (!s)
-                return bad(key, value, "give the sensor's WIDTHxHEIGHT in pixels, e.g. 4608x2592");
-            c.lens.sensorSize = *s;
-        } else if (key == "fps") {
-            auto v = replay::parseNumber(value);
-            if (!v || !(*v >= replay::kMinFps && *v <= replay::kMaxFps))
-                return bad(key, value, "give a frame rate from 0.000001 to 1000000");
-            c.fps = *v;
-        } else if (key == "noise") {
-            auto v = replay::parseNumber(value);
-            if (!v || *v > 1) return bad(key, value, "give σ as a fraction of full scale, 0..1");
-            c.noise = *v;
-        } else if (key == "seed") {
-            // Read as an integer: a double loses seeds past 2^53 and casts 2^64 undefinedly.
-            if (!readsWhole(value, c.seed))
-                return bad(key, value, "give a whole number from 0 to 18446744073709551615");
-        } else if (key == "format") {
-            if (value == "GREY" || value == "grey")
-                c.format = PixelFormat::GREY;
-            else if (value == "YUYV" || value == "yuyv")
-                c.format = PixelFormat::YUYV;
-            else
-                return bad(key, value, "use GREY or YUYV");
-        } else if (key == "pace") {
-            if (value == "camera")
-                c.paced = true;
-            else if (value == "fast")
-                c.paced = false;
-            else
-                return bad(key, value, "use camera (real time at fps) or fast");
-        } else if (key == "focal") {
-            auto m = length(value);
-            if (!m) return bad(key, value, "give a focal length with a unit, e.g. 4.74mm");
-            c.lens.focalLengthM = *m;
-        } else if (key == "fnumber") {
-            auto v = replay::parseNumber(value);
-            if (!v || *v < 0.5 || *v > 128)
-                return bad(key, value, "give an f-number from 0.5 to 128, e.g. 1.8");
-            c.lens.fNumber = *v;
-        } else if (key == "pitch") {
-            auto m = length(value);
-            if (!m || *m < 0.1e-6 || *m > 1e-3)
-                return bad(key, value,
-                           "give the sensor pixel pitch from 0.1um to 1mm with a unit, e.g. 1.4um");
-            c.lens.sensorPixelPitchM = *m;
-        } else {
+        const SimOption* option = nullptr;
+        for (const SimOption& o : kOptions)
+            if (key == o.key) option = &o;
+        if (!option) {
+            std::string keys;
+            for (const SimOption& o : kOptions)
+                keys += std::string(keys.empty() ? "" : ", ") + o.key;
             return makeError(ErrorKind::Usage,
-                             "sim: unknown option '" + key +
-                                 "'; sim: takes scene, focus, distance, distances, tilt, axis, "
-                                 "angle, size, fps, noise, seed, format, pace, focal, fnumber, "
-                                 "pitch, sensor");
+                             "sim: unknown option '" + key + "'; sim: takes " + keys);
         }
+        if (Want want = option->apply(c, value); !want.empty())
+            return makeError(ErrorKind::Usage, "sim: option " + key + "=" + value + ": " + want);
     }
     if (c.scene == SimScene::Steps && !options.count("distances"))
         c.distancesM = {0.3, 0.6, 1.2, 2.4, 4.8};

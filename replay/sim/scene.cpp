@@ -25,7 +25,7 @@ std::optional<double> simBlurDiameterM(const SimLens& lens, double focusDioptres
 SimRenderer::~SimRenderer() = default;
 
 double SimRenderer::inFocusDistanceM(double focusDioptres) {
-    return focusDioptres > 0 ? 1.0 / focusDioptres : INFINITY;
+    return optics::distanceFromDioptres(focusDioptres);
 }
 
 Result<std::unique_ptr<SimRenderer>> SimRenderer::create(const SimConfig& config) {

@@ -12,6 +12,7 @@
 #include "infocus/synth.h"
 #include "replay/playback.h"
 #include "replay/replay_sources.h"
+#include "replay/sim/sim_module.h"
 
 namespace infocus::replay {
 
@@ -74,6 +75,14 @@ public:
         i.size = c.size;
         i.fps = c.fps;
         i.transfer = {TransferFunction::Linear, "the simulated camera renders linear light"};
+        if (c.lens.sensorPixelPitchM > 0 && c.size.width > 0) {
+            SourceOptics o;
+            o.focalLengthM = c.lens.focalLengthM;
+            o.fNumber = c.lens.fNumber;
+            o.pixelPitchM = c.lens.pixelPitchM(c.size.width);
+            o.sensorDiagonalM = o.pixelPitchM * std::hypot(c.size.width, c.size.height);
+            i.optics = o;
+        }
         return i;
     }
     Status start() override {
@@ -143,7 +152,7 @@ private:
 
 }  // namespace
 
-Result<std::unique_ptr<FrameSource>> openSimSource(const SourceSpec& spec) {
+Result<std::unique_ptr<FrameSource>> makeSimSource(const SourceSpec& spec) {
     auto config = parseSimOptions(spec.options);
     if (!config) return config.error();
     auto renderer = SimRenderer::create(*config);

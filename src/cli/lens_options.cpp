@@ -12,6 +12,8 @@
 
 #include "infocus/dof.h"
 #include "infocus/lens_presets.h"
+#include "infocus/optics.h"
+#include "src/core/read_number.h"
 
 namespace infocus::cli {
 
@@ -76,13 +78,10 @@ Result<double> parseLength(std::string_view text, std::string_view option) {
     const auto& [v, unit] = *parts;
     if (unit.empty())
         return usage(quoted(option, text) + ": give a unit, e.g. " + std::string(option) + " " +
-                     std::string(trim(text)) + "mm (units: m, cm, mm, um, nm)");
-    static const std::array<std::pair<std::string_view, double>, 6> kUnits{
-        {{"m", 1.0}, {"cm", 1e-2}, {"mm", 1e-3}, {"um", 1e-6}, {"µm", 1e-6}, {"nm", 1e-9}}};
-    for (const auto& [name, scale] : kUnits)
-        if (unit == name) return v * scale;
-    return usage(quoted(option, text) + ": unknown unit '" + unit +
-                 "'; use m, cm, mm, um or nm, e.g. " + std::string(option) + " 50mm");
+                     std::string(trim(text)) + "mm (units: " + std::string(kLengthUnitNames) + ")");
+    if (const auto scale = metresPerUnit(unit)) return v * *scale;
+    return usage(quoted(option, text) + ": unknown unit '" + unit + "'; use " +
+                 std::string(kLengthUnitNames) + ", e.g. " + std::string(option) + " 50mm");
 }
 
 Result<double> parseFocus(std::string_view text, std::string_view option) {
@@ -96,7 +95,7 @@ Result<double> parseFocus(std::string_view text, std::string_view option) {
         if (dpt < 0.0)
             return usage(quoted(option, text) + ": dioptres must be 0 (infinity) or more, e.g. " +
                          std::string(option) + " 0.4dpt (focus at 2.5 m)");
-        return dpt == 0.0 ? kInf : 1.0 / dpt;
+        return optics::distanceFromDioptres(dpt);
     }
     if (parts && parts->second.empty())
         return usage(quoted(option, text) + ": give a unit, e.g. " + std::string(option) + " " +

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string_view>
 #include <system_error>
+#include <utility>
 
 namespace infocus {
 
@@ -17,6 +18,33 @@ template <class T>
 bool readsWhole(std::string_view text, T& value) {
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
     return !text.empty() && ec == std::errc() && end == text.data() + text.size();
+}
+
+/// Metres per length unit @p unit, as people write lengths everywhere in infocus (options and
+/// source strings alike): m, cm, mm, um or µm, nm. nullopt for any other unit.
+inline std::optional<double> metresPerUnit(std::string_view unit) {
+    constexpr std::pair<std::string_view, double> kUnits[] = {
+        {"m", 1.0}, {"cm", 1e-2}, {"mm", 1e-3}, {"um", 1e-6}, {"µm", 1e-6}, {"nm", 1e-9}};
+    for (const auto& [name, scale] : kUnits)
+        if (unit == name) return scale;
+    return std::nullopt;
+}
+
+/// The units metresPerUnit knows, for messages.
+inline constexpr std::string_view kLengthUnitNames = "m, cm, mm, um (or µm), nm";
+
+/// @p text, a number followed by a unit metresPerUnit knows ("1.4um", "50 mm"), in metres;
+/// nullopt for anything else (no number, no unit, another unit, trailing text).
+inline std::optional<double> readLength(std::string_view text) {
+    double v = 0.0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || end == text.data()) return std::nullopt;
+    std::string_view unit(end, static_cast<size_t>(text.data() + text.size() - end));
+    while (!unit.empty() && unit.front() == ' ')
+        unit.remove_prefix(1);
+    const auto scale = metresPerUnit(unit);
+    if (!scale) return std::nullopt;
+    return v * *scale;
 }
 
 /// The JSON value @p v (nlohmann::json or ordered_json) as an integer within [@p lo, @p hi];
