@@ -66,6 +66,10 @@ std::optional<Point3> dehomogenize(const Vec4& v);
 /// model's z_s*, 1/f = 1/z_s + 1/z_s*): ∞ when z_s = f, no answer when z_s < f.
 std::optional<double> inFocusDistance(double f, double sensorDistance);
 
+/// The object distance in focus for a lens set to @p dioptres (1/m, the unit lens positions are
+/// given in): 1/D, ∞ at 0 dioptres and below.
+double distanceFromDioptres(double dioptres);
+
 /// The sensor distance z_s that focuses an object plane @p focusDistance away: f for ∞, no
 /// answer for a focus distance ≤ f.
 std::optional<double> sensorDistanceForFocus(double f, double focusDistance);

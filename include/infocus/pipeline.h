@@ -25,6 +25,11 @@ struct SourceInfo;
 /// its frames are analysed with (AnalysisOptions::transferFromSource resolved).
 using StartSink = std::function<void(const SourceInfo&, const AnalysisOptions&)>;
 
+/// @p options as the frames of the source @p info describes are analysed with: the transfer
+/// function the source reports where AnalysisOptions::transferFromSource asks for it, and blur
+/// tracked within kLiveBlurSearchBudgetS a frame on a live camera where trackLiveCamera asks.
+AnalysisOptions resolveForSource(const AnalysisOptions& options, const SourceInfo& info);
+
 /// Opens @p source (a source string, see source.h) and analyses up to @p maxFrames frames
 /// (0: until the source ends), handing each result to @p sink in order. A damaged frame is
 /// skipped and reported to @p onDamaged (when given); the frames after it are still analysed.

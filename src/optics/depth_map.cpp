@@ -3,12 +3,13 @@
 
 #include <limits>
 
+#include "infocus/optics.h"
+
 namespace infocus {
 
 std::optional<double> focusFromLensPosition(const FrameAnalysis& a) {
     if (!a.lens || !a.lens->dioptres) return std::nullopt;
-    return *a.lens->dioptres > 0.0 ? 1.0 / *a.lens->dioptres
-                                   : std::numeric_limits<double>::infinity();
+    return optics::distanceFromDioptres(*a.lens->dioptres);
 }
 
 DepthMap depthMap(const FrameAnalysis& a, const std::optional<optics::CameraGeometry>& camera,

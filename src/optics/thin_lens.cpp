@@ -71,6 +71,10 @@ std::optional<double> inFocusDistance(double f, double sensorDistance) {
     return conjugateDistance(f, sensorDistance);
 }
 
+double distanceFromDioptres(double dioptres) {
+    return dioptres > 0.0 ? 1.0 / dioptres : std::numeric_limits<double>::infinity();
+}
+
 std::optional<double> sensorDistanceForFocus(double f, double focusDistance) {
     if (!(focusDistance > f)) return std::nullopt;
     return conjugateDistance(f, focusDistance);

@@ -11,7 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "infocus/output.h"
+#include "infocus/optics.h"
+#include "infocus/sweep_output.h"
 #include "print.h"
 
 namespace infocus {
@@ -33,7 +34,7 @@ std::string positionText(double v, const std::string& unit) {
 
 // The distance in focus at @p dioptres, for people ("infinity" at 0).
 std::string inFocusText(double dioptres) {
-    return formatDistance(dioptres > 0 ? 1.0 / dioptres : HUGE_VAL);
+    return formatDistance(optics::distanceFromDioptres(dioptres));
 }
 
 // JSON of a distance in focus: metres, null for infinity (as dof --json writes far_m).

@@ -16,8 +16,11 @@
 #include <thread>
 
 #include "infocus/metrics.h"
+#include "infocus/optics.h"
+#include "infocus/pipeline.h"
 #include "infocus/source.h"
 #include "src/core/read_number.h"
+#include "src/imaging/imaging.h"
 #include "stack_internal.h"
 
 namespace infocus {
@@ -267,8 +270,7 @@ void assessRegion(StackRegion& g, const StackResult& r) {
         g.peakFrame = r.frameAt(g.peak->position);
         g.peakPosition = r.positionAt(*g.peakFrame);
         g.peakDioptres = r.dioptresAt(*g.peakFrame);
-        if (g.peakDioptres)
-            g.inFocusDistance = *g.peakDioptres > 0 ? 1 / *g.peakDioptres : HUGE_VAL;
+        if (g.peakDioptres) g.inFocusDistance = optics::distanceFromDioptres(*g.peakDioptres);
     }
 }
 
@@ -285,28 +287,17 @@ void assessBlur(StackRegion& g, const stack_detail::BlurReadings& readings, cons
 
 }  // namespace
 
-Result<StackResult> analyzeStack(std::string_view source, const StackOptions& options) {
-    const auto t0 = std::chrono::steady_clock::now();
-    AnalysisOptions ao;
-    ao.cols = options.cols;
-    ao.rows = options.rows;
-    ao.metric = options.metric;
-    ao.measureBlur = true;
-    // As in a sweep (docs/sweep.md): a per-frame noise correction grows towards focus and pushes
-    // every region's peak away from it; the noise itself is the same in every frame.
-    ao.noiseCorrection = false;
-    if (options.mapStepPx < 2 || options.mapStepPx > 1024)
-        return makeError(ErrorKind::Usage, "the focus map's step must be 2 to 1024 pixels");
-    if (auto a = Analyzer::create(ao); !a) return a.error();
-    auto op = parseOperator(options.metric.empty() ? operatorName(kDefaultOperator)
-                                                   : std::string_view(options.metric));
-    if (!op) return op.error();
+namespace {
 
+// Every frame of @p source, all of one size, at least kMinFrames and as many as the positions.
+Result<std::vector<Frame>> readStackFrames(std::string_view source, const StackOptions& options,
+                                           AnalysisOptions& ao) {
     auto opened = openSource(source);
     if (!opened) return opened.error();
     FrameSource& src = **opened;
-    const SourceInfo info = src.info();
-    if (info.transfer.curve) ao.transfer = *info.transfer.curve;
+    // A stack is always decoded as its source says: its frames are compared with each other.
+    ao.transferFromSource = true;
+    ao = resolveForSource(ao, src.info());
     if (auto s = src.start(); !s) return s.error();
     std::vector<Frame> frames;
     for (;;) {
@@ -344,73 +335,63 @@ Result<StackResult> analyzeStack(std::string_view source, const StackOptions& op
         return makeError(ErrorKind::Usage,
                          "the positions file gives " + std::to_string(options.positions.size()) +
                              " frame(s), " + std::string(source) + " has " + std::to_string(n));
+    return frames;
+}
 
-    StackResult r;
-    r.source = source;
-    r.width = frames.front().size.width;
-    r.height = frames.front().size.height;
-    for (size_t i = 0; i < n; ++i) {
-        StackFrame sf;
-        sf.index = i;
-        sf.origin = frames[i].origin;
-        sf.lens = options.positions.empty() ? frames[i].lens : options.positions[i];
-        r.frames.push_back(std::move(sf));
+// One frame's measurement: its analysis, the score its noise adds per region, and with maps
+// the focus map's window scores and its luma.
+Status measureStackFrame(Analyzer& analyzer, Frame& frame, size_t i, const StackOptions& options,
+                         const SharpnessParams& sp, const std::vector<Rect>& windows,
+                         const StackResult& r, Measured& m) {
+    Luma8 luma;
+    auto a = analyzer.analyze(frame, i, luma);
+    if (!a) {
+        Error e = a.error();
+        e.message = "frame " + std::to_string(i) +
+                    (frame.origin.empty() ? "" : " (" + frame.origin + ")") + ": " + e.message;
+        return e;
     }
-    if (auto s = chooseAxis(r, !options.positions.empty()); !s) return s.error();
+    m.analysis = std::move(*a);
+    // The score white noise of the frame's σ adds (the closed-form term the operator removes
+    // when told σ; 0 for operators without one): what a region without texture scores, and so
+    // the yardstick of a flat curve.
+    std::vector<Rect> rects;
+    for (const RegionResult& reg : m.analysis.regions)
+        rects.push_back(reg.rect);
+    SharpnessParams plain = sp, corrected = sp;
+    corrected.noiseSigma = estimateNoiseSigma(luma).value_or(0.0);
+    std::vector<double> s0(rects.size()), s1(rects.size());
+    sharpness(luma, rects, plain, s0);
+    sharpness(luma, rects, corrected, s1);
+    for (size_t k = 0; k < rects.size(); ++k)
+        m.noise.push_back(std::max(0.0, s0[k] - s1[k]));
+    if (!options.maps) return {};
+    m.scores.resize(windows.size());
+    sharpness(luma, windows, sp, m.scores);
+    m.luma.resize(static_cast<size_t>(r.width) * r.height);
+    for (int y = 0; y < r.height; ++y)
+        std::copy_n(luma.row(y), r.width, m.luma.data() + static_cast<size_t>(y) * r.width);
+    frame = Frame{};  // its bytes are no longer needed
+    return {};
+}
 
-    std::vector<Rect> windows;
-    if (options.maps)
-        windows = stack_detail::focusMapWindows(r.width, r.height, options.mapStepPx, r.map);
-    SharpnessParams sp;
-    sp.op = *op;
-
-    // Frames are measured on a few threads, each with its own analyser (not thread-safe).
+// Measures every frame on a few threads, each with its own analyser (not thread-safe).
+Result<std::vector<Measured>> measureStack(std::vector<Frame>& frames, const AnalysisOptions& ao,
+                                           const StackOptions& options, const SharpnessParams& sp,
+                                           const std::vector<Rect>& windows, const StackResult& r) {
+    const size_t n = frames.size();
     std::vector<Measured> measured(n);
     std::atomic<size_t> next{0};
     std::mutex failMutex;
     std::optional<Error> failure;
     const auto work = [&] {
         auto analyzer = Analyzer::create(ao);
-        if (!analyzer) {
-            std::lock_guard lock(failMutex);
-            failure = analyzer.error();
-            return;
-        }
-        for (size_t i; (i = next++) < n;) {
-            Luma8 luma;
-            auto a = (*analyzer)->analyze(frames[i], i, luma);
-            if (!a) {
-                std::lock_guard lock(failMutex);
-                Error e = a.error();
-                e.message = "frame " + std::to_string(i) +
-                            (frames[i].origin.empty() ? "" : " (" + frames[i].origin + ")") + ": " +
-                            e.message;
-                if (!failure) failure = e;
-                return;
-            }
-            Measured& m = measured[i];
-            m.analysis = std::move(*a);
-            // The score white noise of the frame's σ adds (the closed-form term the operator
-            // removes when told σ; 0 for operators without one): what a region without texture
-            // scores, and so the yardstick of a flat curve.
-            std::vector<Rect> rects;
-            for (const RegionResult& reg : m.analysis.regions)
-                rects.push_back(reg.rect);
-            SharpnessParams plain = sp, corrected = sp;
-            corrected.noiseSigma = estimateNoiseSigma(luma).value_or(0.0);
-            std::vector<double> s0(rects.size()), s1(rects.size());
-            sharpness(luma, rects, plain, s0);
-            sharpness(luma, rects, corrected, s1);
-            for (size_t k = 0; k < rects.size(); ++k)
-                m.noise.push_back(std::max(0.0, s0[k] - s1[k]));
-            if (!options.maps) continue;
-            m.scores.resize(windows.size());
-            sharpness(luma, windows, sp, m.scores);
-            m.luma.resize(static_cast<size_t>(r.width) * r.height);
-            for (int y = 0; y < r.height; ++y)
-                std::copy_n(luma.row(y), r.width, m.luma.data() + static_cast<size_t>(y) * r.width);
-            frames[i] = Frame{};  // its bytes are no longer needed
-        }
+        Status st = analyzer ? Status{} : Status(analyzer.error());
+        for (size_t i; st && (i = next++) < n;)
+            st = measureStackFrame(**analyzer, frames[i], i, options, sp, windows, r, measured[i]);
+        if (st) return;
+        std::lock_guard lock(failMutex);
+        if (!failure) failure = st.error();
     };
     const int threads = std::clamp(options.threads, 1, 64);
     std::vector<std::thread> pool;
@@ -420,8 +401,12 @@ Result<StackResult> analyzeStack(std::string_view source, const StackOptions& op
     for (std::thread& t : pool)
         t.join();
     if (failure) return *failure;
-    r.analysisSeconds = seconds(t0);
+    return measured;
+}
 
+// Each region's curves across the stack, assessed, and their blur Vs fitted.
+void assembleRegions(const std::vector<Measured>& measured, StackResult& r) {
+    const size_t n = measured.size();
     r.metric = measured.front().analysis.metric;
     for (size_t i = 0; i < n; ++i)
         r.frames[i].frameSharpness = measured[i].analysis.frameSharpness;
@@ -459,24 +444,76 @@ Result<StackResult> analyzeStack(std::string_view source, const StackOptions& op
     }
     for (size_t k = 0; k < r.regions.size(); ++k)
         if (r.regions[k].status == StackRegionStatus::Ok) assessBlur(r.regions[k], readings[k], r);
+}
 
+// The dense focus map's peaks and the all-in-focus composite it draws.
+Status drawMaps(std::vector<Measured>& measured, StackResult& r) {
+    const size_t n = measured.size();
+    std::vector<std::vector<double>> scores(n);
+    std::vector<std::vector<uint8_t>> lumas(n);
+    for (size_t i = 0; i < n; ++i) {
+        scores[i] = std::move(measured[i].scores);
+        lumas[i] = std::move(measured[i].luma);
+    }
+    stack_detail::findMapPeaks(scores, r.map);
+    std::vector<double> x, y;
+    for (size_t i = 0; i < n; ++i) {
+        x.push_back(static_cast<double>(i));
+        y.push_back(r.frames[i].frameSharpness);
+    }
+    const auto best = findFocusPeak(x, y);
+    auto imaging = imaging::loadImaging("composing the stack's all-in-focus image");
+    if (!imaging) return imaging.error();
+    r.composite =
+        (*imaging)->composeAllInFocus(r.map, lumas, r.width, r.height, best ? best->position : 0.0);
+    return {};
+}
+
+}  // namespace
+
+Result<StackResult> analyzeStack(std::string_view source, const StackOptions& options) {
+    const auto t0 = std::chrono::steady_clock::now();
+    AnalysisOptions ao;
+    ao.cols = options.cols;
+    ao.rows = options.rows;
+    ao.metric = options.metric;
+    ao.measureBlur = true;
+    // As in a sweep (docs/sweep.md): a per-frame noise correction grows towards focus and pushes
+    // every region's peak away from it; the noise itself is the same in every frame.
+    ao.noiseCorrection = false;
+    if (options.mapStepPx < 2 || options.mapStepPx > 1024)
+        return makeError(ErrorKind::Usage, "the focus map's step must be 2 to 1024 pixels");
+    if (auto a = Analyzer::create(ao); !a) return a.error();
+    auto op = parseOperator(options.metric.empty() ? operatorName(kDefaultOperator)
+                                                   : std::string_view(options.metric));
+    if (!op) return op.error();
+    auto frames = readStackFrames(source, options, ao);
+    if (!frames) return frames.error();
+
+    StackResult r;
+    r.source = source;
+    r.width = frames->front().size.width;
+    r.height = frames->front().size.height;
+    for (size_t i = 0; i < frames->size(); ++i) {
+        StackFrame sf;
+        sf.index = i;
+        sf.origin = (*frames)[i].origin;
+        sf.lens = options.positions.empty() ? (*frames)[i].lens : options.positions[i];
+        r.frames.push_back(std::move(sf));
+    }
+    if (auto s = chooseAxis(r, !options.positions.empty()); !s) return s.error();
+    std::vector<Rect> windows;
+    if (options.maps)
+        windows = stack_detail::focusMapWindows(r.width, r.height, options.mapStepPx, r.map);
+    SharpnessParams sp;
+    sp.op = *op;
+    auto measured = measureStack(*frames, ao, options, sp, windows, r);
+    if (!measured) return measured.error();
+    r.analysisSeconds = seconds(t0);
+    assembleRegions(*measured, r);
     if (options.maps) {
         const auto t1 = std::chrono::steady_clock::now();
-        std::vector<std::vector<double>> scores(n);
-        std::vector<std::vector<uint8_t>> lumas(n);
-        for (size_t i = 0; i < n; ++i) {
-            scores[i] = std::move(measured[i].scores);
-            lumas[i] = std::move(measured[i].luma);
-        }
-        stack_detail::findMapPeaks(scores, r.map);
-        std::vector<double> x, y;
-        for (size_t i = 0; i < n; ++i) {
-            x.push_back(static_cast<double>(i));
-            y.push_back(r.frames[i].frameSharpness);
-        }
-        const auto best = findFocusPeak(x, y);
-        r.composite = stack_detail::composeAllInFocus(r.map, lumas, r.width, r.height,
-                                                      best ? best->position : 0.0);
+        if (Status st = drawMaps(*measured, r); !st) return st.error();
         r.mapSeconds = seconds(t1);
     }
     return r;

@@ -5,6 +5,16 @@
 
 namespace infocus {
 
+AnalysisOptions resolveForSource(const AnalysisOptions& options, const SourceInfo& info) {
+    AnalysisOptions used = options;
+    if (options.trackLiveCamera && info.liveCamera) {
+        used.blurSearchesPerFrame = kLiveBlurSearchesPerFrame;
+        used.blurSearchBudgetS = kLiveBlurSearchBudgetS;
+    }
+    if (options.transferFromSource && info.transfer.curve) used.transfer = *info.transfer.curve;
+    return used;
+}
+
 Status analyzeSourceFrames(std::string_view source, const AnalysisOptions& options,
                            uint64_t maxFrames, const FrameAnalysisSink& sink,
                            const DamageSink& onDamaged, const StartSink& onStart) {
@@ -15,19 +25,9 @@ Status analyzeSourceFrames(std::string_view source, const AnalysisOptions& optio
     if (!src) return src.error();
     FrameSource& s = **src;
     const SourceInfo info = s.info();
-    AnalysisOptions used = options;
-    bool remake = false;
-    if (options.trackLiveCamera && info.liveCamera) {
-        used.blurSearchesPerFrame = kLiveBlurSearchesPerFrame;
-        used.blurSearchBudgetS = kLiveBlurSearchBudgetS;
-        remake = true;
-    }
-    if (options.transferFromSource && info.transfer.curve &&
-        *info.transfer.curve != options.transfer) {
-        used.transfer = *info.transfer.curve;
-        remake = true;
-    }
-    if (remake) {
+    const AnalysisOptions used = resolveForSource(options, info);
+    if (used.blurSearchesPerFrame != options.blurSearchesPerFrame ||
+        used.transfer != options.transfer) {
         analyzer = Analyzer::create(used);
         if (!analyzer) return analyzer.error();
     }

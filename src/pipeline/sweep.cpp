@@ -181,15 +181,12 @@ Error noFocusControlError(std::string_view source) {
                          "sim: has one)");
 }
 
-Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
-                             const SweepStepSink& onStep) {
-    FocusControl* control = source.focusControl();
-    const std::string name = source.info().sourceString;
-    if (!control) return noFocusControlError(name);
-    SweepResult result;
-    result.range = control->range();
-    const FocusRange& range = result.range;
-    const double from = options.from.value_or(range.min), to = options.to.value_or(range.max);
+namespace {
+
+// Why a sweep from @p from to @p to over @p range, settling @p settle frames a position, cannot
+// run; empty when it can.
+Status checkSweep(const SweepOptions& options, const FocusRange& range, double from, double to,
+                  int settle, const std::string& name) {
     const auto inRange = [&](double v) { return v >= range.min && v <= range.max; };
     const std::string rangeText =
         formatValue(range.min) + " to " + formatValue(range.max) + " " + range.unit;
@@ -205,104 +202,113 @@ Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
         options.refineSteps > 1000)
         return makeError(ErrorKind::Usage,
                          "a sweep takes 2 to 1000 positions and 0 to 1000 refinement positions");
-    const int settle = options.settleFrames.value_or(control->settleFrames());
     if (settle < 0 || settle > 1000)
         return makeError(ErrorKind::Usage, "settle frames must be 0 to 1000");
+    return {};
+}
 
-    // The noise is the same at every position, but a per-frame estimate is not: it reads a
-    // sharp frame's fine texture as noise, and subtracting it pushes each region's peak away
-    // from the frame's (a tilted plane's regions read 1.4 times as spread without this).
-    AnalysisOptions analysis = options.analysis;
-    analysis.noiseCorrection = false;
-    auto analyzer = Analyzer::create(analysis);
-    if (!analyzer) return analyzer.error();
-    uint64_t frameIndex = 0;
+// Moves the lens to each position, lets it settle and measures one frame there.
+class SweepMeasurer {
+public:
+    SweepMeasurer(FrameSource& source, FocusControl& control, Analyzer& analyzer, int settle,
+                  const SweepStepSink& onStep, SweepResult& result)
+        : source_(source),
+          control_(control),
+          analyzer_(analyzer),
+          settle_(settle),
+          onStep_(onStep),
+          result_(result),
+          name_(source.info().sourceString) {}
 
-    // Moves the lens to @p commanded, lets it settle, measures one frame.
-    const auto measureAt = [&](double commanded, int pass) -> Status {
-        if (auto s = control->set(commanded); !s) return s.error();
-        for (int i = 0; i <= settle; ++i) {
-            auto frame = source.next();
-            // A damaged frame is not a measurement of this position: take the next one, but
-            // not forever from a camera that delivers nothing else.
-            for (int damaged = 1; !frame && frame.error().kind == ErrorKind::Corrupt; ++damaged) {
-                if (damaged == kMaxDamagedInARow) {
-                    Error e = frame.error();
-                    e.message =
-                        name + " delivered " + std::to_string(damaged) +
-                        " damaged frames in a row during the sweep (the last: " + e.message +
-                        "); check the camera's connection and format";
-                    return e;
-                }
-                frame = source.next();
-            }
-            if (!frame) {
-                Error e = frame.error();
-                if (e.kind == ErrorKind::EndOfStream)
-                    e.message = name + " ended during the sweep, after " +
-                                std::to_string(result.steps.size()) + " position(s)";
-                return e;
-            }
-            const uint64_t index = frameIndex++;
-            if (i < settle) continue;
-            auto a = (*analyzer)->analyze(*frame, index);
+    Status measureAt(double commanded, int pass) {
+        if (auto s = control_.set(commanded); !s) return s.error();
+        for (int i = 0; i <= settle_; ++i) {
+            auto frame = nextFrame();
+            if (!frame) return frame.error();
+            const uint64_t index = frameIndex_++;
+            if (i < settle_) continue;
+            auto a = analyzer_.analyze(*frame, index);
             if (!a) return a.error();
             SweepStep step;
             step.pass = pass;
             step.commanded = commanded;
-            step.lens = positionOf(*frame, *control, commanded, range.unit);
+            step.lens = positionOf(*frame, control_, commanded, result_.range.unit);
             step.analysis = std::move(*a);
-            if (onStep)
-                if (auto s = onStep(step); !s) return s;
-            result.steps.push_back(std::move(step));
+            if (onStep_)
+                if (auto s = onStep_(step); !s) return s;
+            result_.steps.push_back(std::move(step));
         }
         return {};
-    };
-
-    const auto positionsBetween = [](double a, double b, int n, bool inclusive) {
-        std::vector<double> out;
-        for (int i = 0; i < n; ++i) {
-            const double t =
-                inclusive ? (n == 1 ? 0.0 : double(i) / (n - 1)) : double(i + 1) / (n + 1);
-            out.push_back(a + (b - a) * t);
-        }
-        return out;
-    };
-
-    for (double p : positionsBetween(from, to, options.steps, true))
-        if (auto s = measureAt(p, 0); !s) return s.error();
-
-    // A step without a score (no Ok region, or the region Dark or Clipped) is no point of the
-    // curve: a dark end of the sweep must not look like a peak or a trough.
-    const auto curveOf =
-        [&](const std::function<std::optional<double>(const FrameAnalysis&)>& score,
-            std::vector<double>& x, std::vector<double>& y) {
-            std::vector<std::pair<double, double>> pts;
-            for (const SweepStep& s : result.steps)
-                if (const auto v = score(s.analysis)) pts.emplace_back(s.lens.value, *v);
-            sortedCurve(std::move(pts), x, y);
-        };
-    std::vector<double> x, y;
-    const auto frameScore = [](const FrameAnalysis& a) -> std::optional<double> {
-        if (!hasMeasurableRegion(a)) return std::nullopt;
-        return a.frameSharpness;
-    };
-
-    if (options.refineSteps > 0) {
-        curveOf(frameScore, x, y);
-        if (auto first = findFocusPeak(x, y); first && x.size() > 1) {
-            const size_t a = first->index, b = first->lastIndex;
-            const double lo = x[a > 0 ? a - 1 : 0], hi = x[std::min(b + 1, x.size() - 1)];
-            for (double p : positionsBetween(lo, hi, options.refineSteps, false))
-                if (auto s = measureAt(p, 1); !s) return s.error();
-        }
     }
 
-    curveOf(frameScore, x, y);
-    result.best = findFocusPeak(x, y);
+private:
+    // The next frame; a damaged frame is not a measurement of this position: the next one is
+    // taken, but not forever from a camera that delivers nothing else.
+    Result<Frame> nextFrame() {
+        auto frame = source_.next();
+        for (int damaged = 1; !frame && frame.error().kind == ErrorKind::Corrupt; ++damaged) {
+            if (damaged == kMaxDamagedInARow) {
+                Error e = frame.error();
+                e.message = name_ + " delivered " + std::to_string(damaged) +
+                            " damaged frames in a row during the sweep (the last: " + e.message +
+                            "); check the camera's connection and format";
+                return e;
+            }
+            frame = source_.next();
+        }
+        if (!frame) {
+            Error e = frame.error();
+            if (e.kind == ErrorKind::EndOfStream)
+                e.message = name_ + " ended during the sweep, after " +
+                            std::to_string(result_.steps.size()) + " position(s)";
+            return e;
+        }
+        return frame;
+    }
+
+    FrameSource& source_;
+    FocusControl& control_;
+    Analyzer& analyzer_;
+    const int settle_;
+    const SweepStepSink& onStep_;
+    SweepResult& result_;
+    const std::string name_;
+    uint64_t frameIndex_ = 0;
+};
+
+std::vector<double> positionsBetween(double a, double b, int n, bool inclusive) {
+    std::vector<double> out;
+    for (int i = 0; i < n; ++i) {
+        const double t = inclusive ? (n == 1 ? 0.0 : double(i) / (n - 1)) : double(i + 1) / (n + 1);
+        out.push_back(a + (b - a) * t);
+    }
+    return out;
+}
+
+// The curve of @p score over @p result's steps, sorted by lens position. A step without a score
+// (no Ok region, or the region Dark or Clipped) is no point of the curve: a dark end of the sweep
+// must not look like a peak or a trough.
+void curveOf(const SweepResult& result,
+             const std::function<std::optional<double>(const FrameAnalysis&)>& score,
+             std::vector<double>& x, std::vector<double>& y) {
+    std::vector<std::pair<double, double>> pts;
+    for (const SweepStep& s : result.steps)
+        if (const auto v = score(s.analysis)) pts.emplace_back(s.lens.value, *v);
+    sortedCurve(std::move(pts), x, y);
+}
+
+std::optional<double> frameScore(const FrameAnalysis& a) {
+    if (!hasMeasurableRegion(a)) return std::nullopt;
+    return a.frameSharpness;
+}
+
+// Each region's sharpness peak and, with blur measured, its blur V.
+void fitRegions(SweepResult& result, bool measureBlur) {
+    std::vector<double> x, y;
     const size_t regions = result.steps.empty() ? 0 : result.steps.front().analysis.regions.size();
     for (size_t r = 0; r < regions; ++r) {
         curveOf(
+            result,
             [r](const FrameAnalysis& a) -> std::optional<double> {
                 if (r >= a.regions.size() || a.regions[r].status != RegionStatus::Ok)
                     return std::nullopt;
@@ -311,20 +317,59 @@ Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
             x, y);
         result.regionBest.push_back(findFocusPeak(x, y));
     }
-    if (options.analysis.measureBlur) {
-        for (size_t r = 0; r < regions; ++r) {
-            std::vector<double> p, b, w;
-            for (const SweepStep& s : result.steps) {
-                if (r >= s.analysis.regions.size()) continue;
-                const RegionResult& reg = s.analysis.regions[r];
-                if (!reg.blurWidthPx || reg.status != RegionStatus::Ok) continue;
-                p.push_back(s.lens.value);
-                b.push_back(*reg.blurWidthPx);
-                w.push_back(reg.confidence);
-            }
-            result.regionBlurFit.push_back(fitBlurV(p, b, w));
+    if (!measureBlur) return;
+    for (size_t r = 0; r < regions; ++r) {
+        std::vector<double> p, b, w;
+        for (const SweepStep& s : result.steps) {
+            if (r >= s.analysis.regions.size()) continue;
+            const RegionResult& reg = s.analysis.regions[r];
+            if (!reg.blurWidthPx || reg.status != RegionStatus::Ok) continue;
+            p.push_back(s.lens.value);
+            b.push_back(*reg.blurWidthPx);
+            w.push_back(reg.confidence);
+        }
+        result.regionBlurFit.push_back(fitBlurV(p, b, w));
+    }
+}
+
+}  // namespace
+
+Result<SweepResult> runSweep(FrameSource& source, const SweepOptions& options,
+                             const SweepStepSink& onStep) {
+    FocusControl* control = source.focusControl();
+    const std::string name = source.info().sourceString;
+    if (!control) return noFocusControlError(name);
+    SweepResult result;
+    result.range = control->range();
+    const FocusRange& range = result.range;
+    const double from = options.from.value_or(range.min), to = options.to.value_or(range.max);
+    const int settle = options.settleFrames.value_or(control->settleFrames());
+    if (Status st = checkSweep(options, range, from, to, settle, name); !st) return st.error();
+
+    // The noise is the same at every position, but a per-frame estimate is not: it reads a
+    // sharp frame's fine texture as noise, and subtracting it pushes each region's peak away
+    // from the frame's (a tilted plane's regions read 1.4 times as spread without this).
+    AnalysisOptions analysis = options.analysis;
+    analysis.noiseCorrection = false;
+    auto analyzer = Analyzer::create(analysis);
+    if (!analyzer) return analyzer.error();
+    SweepMeasurer measurer(source, *control, **analyzer, settle, onStep, result);
+    for (double p : positionsBetween(from, to, options.steps, true))
+        if (auto s = measurer.measureAt(p, 0); !s) return s.error();
+
+    std::vector<double> x, y;
+    if (options.refineSteps > 0) {
+        curveOf(result, frameScore, x, y);
+        if (auto first = findFocusPeak(x, y); first && x.size() > 1) {
+            const size_t a = first->index, b = first->lastIndex;
+            const double lo = x[a > 0 ? a - 1 : 0], hi = x[std::min(b + 1, x.size() - 1)];
+            for (double p : positionsBetween(lo, hi, options.refineSteps, false))
+                if (auto s = measurer.measureAt(p, 1); !s) return s.error();
         }
     }
+    curveOf(result, frameScore, x, y);
+    result.best = findFocusPeak(x, y);
+    fitRegions(result, options.analysis.measureBlur);
     if (options.moveToBest && result.best) {
         if (auto s = control->set(result.best->position); !s) return s.error();
     }
