@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The live pipeline end to end: a recording replayed at its own pace (`DIR,pace=original,loop=1`)
 // through LivePipeline as `infocus live` runs it, beside the same pipeline with an OpenCV
-// composition in place of infocus's measurement (LiveOptions::measureOverride); and the web
+// composition in place of infocus's measurement (live_detail::openMeasuredBy); and the web
 // view's cost: the same pipeline with 4 in-process clients of /stream.mjpg and /events.
 #include <stdlib.h>
 #include <sys/resource.h>
@@ -24,6 +24,7 @@
 #include "infocus/recording.h"
 #include "infocus/synth.h"
 #include "infocus_config.h"
+#include "src/pipeline/live/measure_hook.h"
 #if HAVE_WEB
 #include <httplib.h>
 
@@ -36,7 +37,7 @@ namespace infocus::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using MeasureFn = decltype(LiveOptions::measureOverride);
+using MeasureFn = live_detail::MeasureOverride;
 
 // The first frame's timestamp in the recordings: far from CLOCK_MONOTONIC's present, so the
 // pipeline counts latency from each frame's arrival, as it does for any recording.
@@ -196,8 +197,8 @@ Result<LiveRun> runLive(const std::string& dir, double seconds, MeasureFn measur
     options.peaking = PeakingMode::Percentile;
     options.peakingPercentile = kPeakingPercentile;
     options.previewLongSide = previewLongSide;
-    options.measureOverride = std::move(measure);
-    auto pipeline = LivePipeline::open(dir + ",pace=original,loop=1", options);
+    auto pipeline =
+        live_detail::openMeasuredBy(dir + ",pace=original,loop=1", options, std::move(measure));
     if (!pipeline) return pipeline.error();
     LivePipeline& p = **pipeline;
 

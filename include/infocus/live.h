@@ -9,10 +9,8 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <optional>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -65,13 +63,6 @@ struct LiveOptions {
     int previewLongSide = 0;
     /// Circle of confusion in pixels used when no lens data gives one (the heat map's scale).
     double defaultCocPx = 2.0;
-    /// For benchmarks: replaces the sharpness and blur measurement, the rest of the pipeline
-    /// unchanged. Called on the analysis thread with each frame's luma and the regions to score,
-    /// it fills regionScores (one per region): they become the regions' sharpness and, combined
-    /// as usual, the frame's score; no blur is read. Empty: infocus's own measurement.
-    std::function<void(const Luma8& luma, std::span<const Rect> regions,
-                       std::vector<double>& regionScores)>
-        measureOverride;
 };
 
 /// One region of the live state.
@@ -161,12 +152,21 @@ struct LiveState {
     std::optional<Rect> scoreRoi;
 };
 
+/// The state as the JSON object of `live --ui json` and the web view's /state (one line, no
+/// newline): frame, source, sequence, live_camera, fps, dropped, skipped, latency_p50_ms,
+/// latency_p99_ms, score, peak, percent_of_peak, trend, past_peak, blur_px, blur_um,
+/// lens_position, in_focus_distance_m, has_focus_control, focus_range, coc_px, diffraction_px,
+/// regions_in_coc, dof_near_m, dof_far_m, in_focus_line, tilt_deg, history, grid, regions,
+/// peaking, roi, magnifier and preview; each region carries its heat class (src/live/present.h).
+/// Unknown values are null; an infinite distance is "inf".
+std::string liveStateJson(const LiveState& s);
+
 /// Controls every face uses. Safe to call from any thread; each returns at once and reports
 /// what it did (the lens moves on the capture thread between frames).
 class LiveControls {
 public:
     virtual ~LiveControls() = default;
-    /// Moves the lens by @p steps of its control's step (or 1/100 of its range when continuous).
+    /// Moves the lens by @p steps of its control's step (or 1/200 of its range when continuous).
     virtual Status focusStep(int steps) = 0;
     /// Moves the lens to @p value in the control's native unit (clamped to its range).
     virtual Status focusTo(double value) = 0;
@@ -184,18 +184,10 @@ public:
     virtual Status setPeaking(PeakingMode mode) = 0;
 };
 
-/// The live pipeline over one source.
-class LivePipeline : public LiveControls {
+/// What a face sees of the live pipeline: the newest state, a wait for a newer one, whether and
+/// why it ended, what the source is, and the controls.
+class LiveView : public LiveControls {
 public:
-    /// Opens @p source with @p options (checked first: a bad grid fails before the camera opens).
-    static Result<std::unique_ptr<LivePipeline>> open(std::string_view source,
-                                                      const LiveOptions& options);
-    ~LivePipeline() override;
-
-    /// Starts the capture and analysis threads.
-    virtual Status start() = 0;
-    /// Stops both threads; safe to call twice.
-    virtual void stop() = 0;
     /// The newest state, or nullptr before the first frame has been analysed.
     virtual std::shared_ptr<const LiveState> state() const = 0;
     /// Waits up to @p timeout for a state newer than frame @p after (nullptr on time-out, or when
@@ -209,6 +201,20 @@ public:
     virtual Status endStatus() const = 0;
     /// What the source is.
     virtual SourceInfo info() const = 0;
+};
+
+/// The live pipeline over one source: a LiveView that its owner starts and stops.
+class LivePipeline : public LiveView {
+public:
+    /// Opens @p source with @p options (checked first: a bad grid fails before the camera opens).
+    static Result<std::unique_ptr<LivePipeline>> open(std::string_view source,
+                                                      const LiveOptions& options);
+    ~LivePipeline() override;
+
+    /// Starts the capture and analysis threads.
+    virtual Status start() = 0;
+    /// Stops both threads; safe to call twice.
+    virtual void stop() = 0;
 
 protected:
     LivePipeline() = default;

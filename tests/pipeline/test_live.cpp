@@ -9,7 +9,6 @@
 #include <thread>
 
 #include "infocus/live.h"
-#include "infocus/output.h"
 
 using namespace infocus;
 using namespace std::chrono_literals;

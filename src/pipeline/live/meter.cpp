@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "live_meter.h"
+#include "src/pipeline/live/meter.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,20 +1,21 @@
 // SPDX-License-Identifier: MIT
-#include "live_state.h"
+#include "src/pipeline/live/state.h"
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "infocus/blur.h"
 #include "infocus/dof.h"
 #include "infocus/plane_fit.h"
-#include "live_meter.h"
+#include "src/pipeline/live/meter.h"
 
 namespace infocus::live_detail {
 
 namespace {
 
-// Blur readings below this confidence are shown greyed and left out of the frame's median.
-constexpr double kConfident = 0.25;
+// Blur readings below the engine's own cut are shown greyed and left out of the frame's median.
+constexpr double kConfident = kLowBlurConfidence;
 // Regions with a blur reading needed before the in-focus line and tilt are shown: three points
 // define any plane, so a handful more keep one stray edge from tilting it.
 constexpr int kMinRegionsForPlane = 6;
