@@ -8,32 +8,6 @@
 using namespace infocus;
 using namespace infocus::tui;
 
-TEST_CASE("distances read with 2-3 significant digits, mm below a metre") {
-    CHECK(formatFocusDistance(0.5123) == "512 mm");
-    CHECK(formatFocusDistance(0.999) == "999 mm");
-    CHECK(formatFocusDistance(1.0) == "1.00 m");
-    CHECK(formatFocusDistance(1.0449) == "1.04 m");
-    CHECK(formatFocusDistance(12.46) == "12.5 m");
-    CHECK(formatFocusDistance(230.4) == "230 m");
-    CHECK(formatFocusDistance(INFINITY) == "infinity");
-}
-
-TEST_CASE("heat classes are multiples of the circle of confusion") {
-    LiveRegion r;
-    r.confidence = 0.9;
-    CHECK(heatOf(r, 2.0) == Heat::Unknown);  // no reading
-    r.blurPx = 2.0;
-    CHECK(heatOf(r, 2.0) == Heat::InCoc);
-    r.blurPx = 4.0;
-    CHECK(heatOf(r, 2.0) == Heat::Near);
-    r.blurPx = 8.0;
-    CHECK(heatOf(r, 2.0) == Heat::Far);
-    r.blurPx = 8.1;
-    CHECK(heatOf(r, 2.0) == Heat::Beyond);
-    r.confidence = 0.2;
-    CHECK(heatOf(r, 2.0) == Heat::Unknown);
-}
-
 TEST_CASE("region labels take the most precise form that fits") {
     LiveRegion r;
     r.confidence = 0.9;
@@ -78,13 +52,6 @@ TEST_CASE("big digits are three lines of equal width") {
     CHECK(displayWidth(big[1]) == 15);
     CHECK(displayWidth(big[2]) == 15);
     CHECK(bigTextWidth("7%") == 7);
-}
-
-TEST_CASE("g cycles 16x9, 8x6, 4x3") {
-    CHECK(nextGrid(16, 9) == std::pair{8, 6});
-    CHECK(nextGrid(8, 6) == std::pair{4, 3});
-    CHECK(nextGrid(4, 3) == std::pair{16, 9});
-    CHECK(nextGrid(32, 18) == std::pair{16, 9});
 }
 
 TEST_CASE("the optics lines say what the state knows") {

@@ -37,13 +37,3 @@ TEST_CASE("an empty frame or area has no picture") {
     CHECK(letterbox(0, 1080, 1210, 1000).w == 0);
     CHECK(letterbox(1920, 1080, 0, 1000).w == 0);
 }
-
-TEST_CASE("g cycles 16x9, 8x6, 4x3; p cycles off, coc, percentile") {
-    CHECK(nextGrid(16, 9) == std::array<int, 2>{8, 6});
-    CHECK(nextGrid(8, 6) == std::array<int, 2>{4, 3});
-    CHECK(nextGrid(4, 3) == std::array<int, 2>{16, 9});
-    CHECK(nextGrid(12, 5) == std::array<int, 2>{16, 9});  // a grid from --grid rejoins the cycle
-    CHECK(nextPeaking(PeakingMode::Off) == PeakingMode::Coc);
-    CHECK(nextPeaking(PeakingMode::Coc) == PeakingMode::Percentile);
-    CHECK(nextPeaking(PeakingMode::Percentile) == PeakingMode::Off);
-}

@@ -140,9 +140,9 @@ private:
 
 int main(int argc, char** argv) {
     infocus::FakePipeline p;
-    infocus::TuiOptions o;
-    if (argc > 1) o.seconds = std::atof(argv[1]);
-    const infocus::Status st = infocus::runTui(p, o);
+    infocus::RunLimits limits;
+    if (argc > 1) limits.seconds = std::atof(argv[1]);
+    const infocus::Status st = infocus::runTui(p, limits, false);
     if (!st) {
         std::fprintf(stderr, "tui_fake: %s\n", st.error().message.c_str());
         return 1;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string_view>
 
+#include "src/live/present.h"
 #include "src/live/tui/tui_text.h"
 
 namespace infocus::tui {
@@ -110,17 +111,17 @@ void drawHistory(const LiveState& s, int top, double windowS) {
     }
 }
 
-short heatPair(Heat h) {
+short heatPair(present::Heat h) {
     switch (h) {
-        case Heat::InCoc:
+        case present::Heat::InCoc:
             return kHeatInCoc;
-        case Heat::Near:
+        case present::Heat::Near:
             return kHeatNear;
-        case Heat::Far:
+        case present::Heat::Far:
             return kHeatFar;
-        case Heat::Beyond:
+        case present::Heat::Beyond:
             return kHeatBeyond;
-        case Heat::Unknown:
+        case present::Heat::Unknown:
             break;
     }
     return kHeatUnknown;
@@ -133,13 +134,13 @@ void drawLegend(const LiveState& s, int y) {
                   s.cocPx);
     put(y, 1, head, w, A_DIM);
     int x = 1 + displayWidth(head);
-    for (const auto& [heat, word] : {std::pair{Heat::InCoc, " ≤1× "},
-                                     {Heat::Near, " ≤2× "},
-                                     {Heat::Far, " ≤4× "},
-                                     {Heat::Beyond, " >4× "},
-                                     {Heat::Unknown, " ? "}}) {
+    for (const auto& [heat, word] : {std::pair{present::Heat::InCoc, " ≤1× "},
+                                     {present::Heat::Near, " ≤2× "},
+                                     {present::Heat::Far, " ≤4× "},
+                                     {present::Heat::Beyond, " >4× "},
+                                     {present::Heat::Unknown, " ? "}}) {
         attr_t a = colour(heatPair(heat));
-        if (heat == Heat::Unknown && !gGreyCells) a |= A_DIM;
+        if (heat == present::Heat::Unknown && !gGreyCells) a |= A_DIM;
         put(y, x, word, w, a);
         x += displayWidth(word) + 1;
     }
@@ -160,15 +161,15 @@ void drawGrid(const LiveState& s, int top, int bottom) {
     auto rowY = [&](int r) { return top + r * gridH / shownRows; };
     for (const LiveRegion& r : s.regions) {
         if (r.col >= shownCols || r.row >= shownRows) continue;
-        const Heat heat = heatOf(r, s.cocPx);
+        const present::Heat heat = present::heatOf(r, s.cocPx);
         attr_t a = colour(heatPair(heat));
-        if (heat == Heat::Unknown && !gGreyCells) a |= A_DIM;
+        if (heat == present::Heat::Unknown && !gGreyCells) a |= A_DIM;
         const int x = colX(r.col), cellW = colX(r.col + 1) - x;
         const int y = rowY(r.row), cellH = rowY(r.row + 1) - y;
         // A blank column between cells keeps neighbours of one colour apart.
         const int inner = cellW >= 4 ? cellW - 1 : cellW;
         std::string label = regionLabel(r, inner);
-        if (label.empty() && heat == Heat::Unknown) label = "·";
+        if (label.empty() && heat == present::Heat::Unknown) label = "·";
         const int labelW = displayWidth(label);
         const int pad = (inner - labelW) / 2;
         for (int dy = 0; dy < cellH; ++dy) {
@@ -220,7 +221,8 @@ void drawScreen(const LiveState* state, const ScreenNotes& notes) {
     mvhline(0, 0, ' ', w);
     mvhline(h - 1, 0, ' ', w);
     attroff(bar);
-    put(h - 1, 1, "←/→ focus  Shift ×10  a autofocus  r reset peak  g grid  q quit", w, bar);
+    put(h - 1, 1, "←/→ focus  Shift ×10  a autofocus  r reset peak  g grid  p peaking  q quit", w,
+        bar);
     if (!state) {
         put(0, 1, "infocus live: waiting for the first frame…", w, bar | A_BOLD);
         if (!notes.status.empty()) put(2, 1, notes.status, w, colour(kRed) | A_BOLD);

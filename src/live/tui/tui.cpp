@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "src/live/present.h"
 #include "src/live/tui/screen.h"
 #include "src/live/tui/tui_text.h"
 
@@ -91,20 +92,17 @@ private:
 
 }  // namespace
 
-bool tuiAvailable() {
-    return true;
-}
-
-Status runTui(LivePipeline& pipeline, const TuiOptions& options) {
+Status runTui(LiveView& view, const RunLimits& limits, bool fromSim) {
     std::setlocale(LC_ALL, "");
     Terminal terminal;
     if (Status st = terminal.open(); !st) return st;
 
+    const RunClock clock(limits);
     const Clock::time_point start = Clock::now();
     Clock::time_point lastDraw = start - kRedrawPeriod;
     Clock::time_point errorUntil = start;
     tui::ScreenNotes notes;
-    notes.fromSim = options.fromSim;
+    notes.fromSim = fromSim;
     bool dirty = true;
 
     // A control's error goes to the status line for a few seconds; success leaves the state's.
@@ -117,15 +115,11 @@ Status runTui(LivePipeline& pipeline, const TuiOptions& options) {
     };
 
     for (;;) {
-        if (gSignalled || (options.stop && options.stop->load())) return {};
-        const std::shared_ptr<const LiveState> state = pipeline.state();
+        if (gSignalled) return {};
+        const std::shared_ptr<const LiveState> state = view.state();
         const Clock::time_point now = Clock::now();
-        if (options.seconds &&
-            std::chrono::duration<double>(now - start).count() >= *options.seconds) {
-            return {};
-        }
-        if (options.frames && state && state->frame + 1 >= *options.frames) return {};
-        if (pipeline.ended()) return pipeline.endStatus();
+        if (clock.done(state.get())) return {};
+        if (view.ended()) return view.endStatus();
 
         if (!notes.status.empty() && now >= errorUntil) {
             notes.status.clear();
@@ -139,44 +133,40 @@ Status runTui(LivePipeline& pipeline, const TuiOptions& options) {
         }
 
         const int key = getch();
-        switch (key) {
-            case ERR:
-                break;
-            case 'q':
-            case 'Q':
-                return {};
-            case KEY_LEFT:
-                control(pipeline.focusStep(-1));
-                break;
-            case KEY_RIGHT:
-                control(pipeline.focusStep(1));
-                break;
-            case KEY_SLEFT:
-                control(pipeline.focusStep(-10));
-                break;
-            case KEY_SRIGHT:
-                control(pipeline.focusStep(10));
-                break;
-            case 'a':
-                control(pipeline.autofocus());
-                break;
-            case 'r':
-                pipeline.resetPeak();
-                break;
-            case 'g':
-                if (state) {
-                    const auto [cols, rows] = tui::nextGrid(state->cols, state->rows);
-                    control(pipeline.setGrid(cols, rows));
-                }
-                break;
-            case KEY_RESIZE:
-                dirty = true;
-                break;
-            default:
-                break;
-        }
-        if (key != ERR) dirty = true;
+        if (key == ERR) continue;
+        dirty = true;
+        if (key == KEY_RESIZE) continue;
+        present::Key k = present::Key::Char;
+        if (key == KEY_LEFT) k = present::Key::Left;
+        if (key == KEY_RIGHT) k = present::Key::Right;
+        if (key == KEY_SLEFT) k = present::Key::ShiftLeft;
+        if (key == KEY_SRIGHT) k = present::Key::ShiftRight;
+        if (key == 27) k = present::Key::Escape;
+        const char ch = key > 0 && key < 128 ? static_cast<char>(key) : 0;
+        const present::Action action = present::actionForKey(k, ch);
+        if (action == present::Action::Quit) return {};
+        control(present::apply(action, view, state.get()));
     }
+}
+
+namespace {
+
+class TuiFace final : public Face {
+public:
+    explicit TuiFace(bool fromSim) : fromSim_(fromSim) {}
+    Status prepare(LiveOptions&) override { return {}; }
+    Status run(LiveView& view, const RunLimits& limits) override {
+        return runTui(view, limits, fromSim_);
+    }
+
+private:
+    bool fromSim_;
+};
+
+}  // namespace
+
+std::unique_ptr<Face> makeTuiFace(const FaceSettings& settings) {
+    return std::make_unique<TuiFace>(settings.fromSim);
 }
 
 }  // namespace infocus

@@ -4,30 +4,22 @@
 /// history, region heat map, optics) that sends the keys a person presses to LiveControls.
 #pragma once
 
-#include <atomic>
-#include <cstdint>
-#include <optional>
+#include <memory>
 
 #include "infocus/error.h"
 #include "infocus/live.h"
+#include "src/live/face.h"
 
 namespace infocus {
 
-/// How long the terminal face runs and what it says of its source.
-struct TuiOptions {
-    std::optional<double> seconds;   ///< return after this many seconds of wall time
-    std::optional<uint64_t> frames;  ///< return once this many frames have been analysed
-    /// The source is the simulated camera chosen because no camera was named; the title says so.
-    bool fromSim = false;
-    /// Set by the caller (from any thread) to make runTui return; may be null.
-    const std::atomic<bool>* stop = nullptr;
-};
+/// Shows @p view on the terminal until `q`, SIGINT/SIGTERM, @p limits, or the view's end, and
+/// restores the terminal on every way out. The title marks the simulated camera chosen for want
+/// of one with @p fromSim. Returns the view's endStatus() when it ended; ErrorKind::Unsupported
+/// when stdin or stdout is not a terminal or TERM names none ncurses knows. A terminal smaller
+/// than 80×24 shows what fits and says so.
+Status runTui(LiveView& view, const RunLimits& limits, bool fromSim);
 
-/// Shows @p pipeline on the terminal until `q`, SIGINT/SIGTERM, @p options' limits, @p stop, or
-/// the pipeline's end, and restores the terminal on every way out. The caller starts and stops
-/// the pipeline. Returns the pipeline's endStatus() when it ended; ErrorKind::Unsupported when
-/// stdin or stdout is not a terminal or TERM names none ncurses knows. A terminal smaller than
-/// 80×24 shows what fits and says so.
-Status runTui(LivePipeline& pipeline, const TuiOptions& options);
+/// The terminal face (runTui) for a run with @p settings.
+std::unique_ptr<Face> makeTuiFace(const FaceSettings& settings);
 
 }  // namespace infocus

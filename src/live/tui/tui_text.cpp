@@ -5,13 +5,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include "src/live/present.h"
+
 namespace infocus::tui {
 
 namespace {
-
-// Below this confidence a blur reading is shown as unknown: the engine's own threshold for a
-// reading worth reporting.
-constexpr double kMinConfidence = 0.25;
 
 std::string format(const char* fmt, double v) {
     char buf[64];
@@ -25,28 +23,8 @@ bool isContinuation(unsigned char c) {
 
 }  // namespace
 
-std::string formatFocusDistance(double metres) {
-    if (std::isinf(metres)) return "infinity";
-    const double a = std::abs(metres);
-    if (a < 1.0) return format("%.0f mm", metres * 1e3);
-    if (a < 10.0) return format("%.2f m", metres);
-    if (a < 100.0) return format("%.1f m", metres);
-    return format("%.0f m", metres);
-}
-
-Heat heatOf(const LiveRegion& region, double cocPx) {
-    if (!region.blurPx || region.confidence < kMinConfidence || !(cocPx > 0.0)) {
-        return Heat::Unknown;
-    }
-    const double ratio = *region.blurPx / cocPx;
-    if (ratio <= 1.0) return Heat::InCoc;
-    if (ratio <= 2.0) return Heat::Near;
-    if (ratio <= 4.0) return Heat::Far;
-    return Heat::Beyond;
-}
-
 std::string regionLabel(const LiveRegion& region, int width) {
-    if (!region.blurPx || region.confidence < kMinConfidence) return {};
+    if (!present::showsBlur(region)) return {};
     const double b = *region.blurPx;
     // The most precise form that fits: one decimal below 10 px, whole pixels above.
     for (const std::string& s :
@@ -144,12 +122,6 @@ std::string meterBar(double percent, int width) {
     return out;
 }
 
-std::pair<int, int> nextGrid(int cols, int rows) {
-    if (cols == 16 && rows == 9) return {8, 6};
-    if (cols == 8 && rows == 6) return {4, 3};
-    return {16, 9};
-}
-
 std::string trendText(Trend trend) {
     switch (trend) {
         case Trend::Sharper:
@@ -194,14 +166,14 @@ std::string lensLine(const LiveState& s) {
     if (s.autofocusRunning) {
         out += "   autofocus…";
     } else if (s.inFocusDistanceM) {
-        out += "   in focus at " + formatFocusDistance(*s.inFocusDistanceM);
+        out += "   in focus at " + present::distanceText(*s.inFocusDistanceM);
     }
     return out;
 }
 
 std::optional<std::string> dofLine(const LiveState& s) {
     if (!s.dofNearM || !s.dofFarM) return std::nullopt;
-    return "DoF " + formatFocusDistance(*s.dofNearM) + " – " + formatFocusDistance(*s.dofFarM);
+    return "DoF " + present::distanceText(*s.dofNearM) + " – " + present::distanceText(*s.dofFarM);
 }
 
 std::string blurLine(const LiveState& s) {

@@ -15,22 +15,6 @@
 
 namespace infocus::tui {
 
-/// A distance for people, 2–3 significant digits: "512 mm", "1.00 m", "12.5 m", "230 m",
-/// "infinity".
-std::string formatFocusDistance(double metres);
-
-/// How a region's blur compares with the circle of confusion (the heat map's colours).
-enum class Heat {
-    Unknown,  ///< no blur reading, or confidence below 0.25
-    InCoc,    ///< blur ≤ 1× CoC
-    Near,     ///< ≤ 2×
-    Far,      ///< ≤ 4×
-    Beyond,   ///< more
-};
-
-/// The heat class of @p region against @p cocPx (pixels; ≤ 0: every reading is Unknown).
-Heat heatOf(const LiveRegion& region, double cocPx);
-
 /// The blur of a region written to fit @p width columns ("3.1", "12", "99+"); empty when even
 /// the shortest form does not fit or there is no reading.
 std::string regionLabel(const LiveRegion& region, int width);
@@ -57,10 +41,6 @@ int bigTextWidth(std::string_view text);
 
 /// A horizontal bar @p width cells long filled to @p percent of 100 with eighth-cell blocks.
 std::string meterBar(double percent, int width);
-
-/// The grid the `g` key goes to from @p cols × @p rows: 16×9 → 8×6 → 4×3 → 16×9 (any other
-/// grid → 16×9).
-std::pair<int, int> nextGrid(int cols, int rows);
 
 /// The trend as an arrow and a word: "▲ sharper", "▼ worse", "● steady".
 std::string trendText(Trend trend);

@@ -17,7 +17,7 @@
 #include <random>
 #include <thread>
 
-#include "infocus/output.h"
+#include "infocus/live.h"
 #include "src/live/web/page_assets.h"
 #include "src/live/web/web_control.h"
 #include "src/live/web/web_encode.h"
@@ -88,7 +88,7 @@ std::string hostOf(const std::string& header) {
 
 class WebServerImpl final : public WebServer {
 public:
-    WebServerImpl(LivePipeline& pipeline, const WebOptions& options, ListenAddress address)
+    WebServerImpl(LiveView& pipeline, const WebOptions& options, ListenAddress address)
         : pipeline_(pipeline),
           options_(options),
           address_(std::move(address)),
@@ -341,7 +341,7 @@ private:
             [this](bool) { hub_.eventClients.fetch_sub(1); });
     }
 
-    LivePipeline& pipeline_;
+    LiveView& pipeline_;
     const WebOptions options_;
     const ListenAddress address_;
     std::string token_;
@@ -388,8 +388,7 @@ Result<ListenAddress> parseListenAddress(std::string_view text) {
     return a;
 }
 
-Result<std::unique_ptr<WebServer>> WebServer::start(LivePipeline& pipeline,
-                                                    const WebOptions& options) {
+Result<std::unique_ptr<WebServer>> WebServer::start(LiveView& pipeline, const WebOptions& options) {
     auto address = parseListenAddress(options.listen);
     if (!address) return address.error();
     auto server = std::make_unique<WebServerImpl>(pipeline, options, *address);

@@ -49,8 +49,7 @@ class WebServer {
 public:
     /// Binds @p options.listen and starts serving @p pipeline, which must outlive the server.
     /// ErrorKind::Io naming the address when it cannot be bound (in use, not on this machine).
-    static Result<std::unique_ptr<WebServer>> start(LivePipeline& pipeline,
-                                                    const WebOptions& options);
+    static Result<std::unique_ptr<WebServer>> start(LiveView& pipeline, const WebOptions& options);
     /// Stops the server (stop()).
     virtual ~WebServer() = default;
     /// Closes the listening socket and every streaming connection, and joins the threads;

@@ -5,7 +5,7 @@
 
 #include <cstdio>
 
-#include "infocus/output.h"
+#include "infocus/live.h"
 #include "src/live/web/web_encode.h"
 
 namespace infocus::web {
@@ -20,7 +20,7 @@ double threadCpuS() {
 
 }  // namespace
 
-FrameHub::FrameHub(LivePipeline& pipeline, int jpegQuality)
+FrameHub::FrameHub(LiveView& pipeline, int jpegQuality)
     : pipeline_(pipeline), quality_(jpegQuality), thread_([this] { run(); }) {}
 
 FrameHub::~FrameHub() {

@@ -36,7 +36,7 @@ struct HubSnapshot {
 class FrameHub {
 public:
     /// Follows @p pipeline (which must outlive the hub), encoding at @p jpegQuality.
-    FrameHub(LivePipeline& pipeline, int jpegQuality);
+    FrameHub(LiveView& pipeline, int jpegQuality);
     ~FrameHub();
     /// Ends the thread and wakes every waiting client; safe to call twice.
     void stop();
@@ -61,7 +61,7 @@ public:
 private:
     void run();
 
-    LivePipeline& pipeline_;
+    LiveView& pipeline_;
     const int quality_;
     std::atomic<bool> stopping_{false};
     mutable std::mutex mutex_;

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "src/live/face_module.h"
+#include "src/live/present.h"
 #include "src/live/window/window_view.h"
 
 namespace infocus {
@@ -195,212 +197,245 @@ Status windowDisplayCheck() {
     return {};
 }
 
-Status runWindow(LivePipeline& pipeline, const WindowOptions& options) {
-    Display d;
-    if (Status st = d.open(); !st) return st;
+namespace {
 
-    const Clock::time_point start = Clock::now();
-    Clock::time_point errorUntil = start, lastMagnifier = start, lastDraw = start;
-    std::shared_ptr<const LiveState> state;
-    uint64_t shownPicture = UINT64_MAX, shownPeaking = UINT64_MAX, shownMagnifier = UINT64_MAX;
-    window::PanelNotes notes;
-    notes.bigFont = d.bigFont_;
-    if (SDL_RendererInfo info{}; SDL_GetRendererInfo(d.renderer_, &info) == 0)
-        notes.renderer = info.name;
-    std::deque<Clock::time_point> drawn;  // the last second's draws, for the drawn rate
-    int zoom = 1;
-    std::optional<std::array<int, 3>> sentMagnifier;
-    std::optional<std::array<float, 2>> dragFrom, dragTo;  // frame pixels
-    std::optional<std::array<float, 2>> dragFromWindow;
-    window::PictureRect pic;
+// One window session: the events of a person, the newest state, and the drawing, each a stage.
+class WindowLoop {
+public:
+    WindowLoop(Display& d, LiveView& view) : d_(d), view_(view) {
+        notes_.bigFont = d.bigFont_;
+        if (SDL_RendererInfo info{}; SDL_GetRendererInfo(d.renderer_, &info) == 0)
+            notes_.renderer = info.name;
+    }
 
-    auto control = [&](const Status& st) {
-        if (st) return;
-        notes.status = st.error().message;
-        errorUntil = Clock::now() + kErrorShown;
-    };
-    auto focus = [&](int steps) {
-        const bool shift = (SDL_GetModState() & KMOD_SHIFT) != 0;
-        control(pipeline.focusStep(shift ? steps * 10 : steps));
-    };
-
-    for (;;) {
-        if (options.stop && options.stop->load()) return {};
-        const Clock::time_point now = Clock::now();
-        if (options.seconds &&
-            std::chrono::duration<double>(now - start).count() >= *options.seconds)
-            return {};
-        if (options.frames && state && state->frame + 1 >= *options.frames) return {};
-        if (pipeline.ended()) return pipeline.endStatus();
-
-        // Events first: keys and the mouse act on the picture drawn last.
-        SDL_Event e;
-        bool dirty = false;
-        while (SDL_PollEvent(&e)) {
-            dirty = true;
-            ImGui_ImplSDL2_ProcessEvent(&e);
-            const ImGuiIO& io = ImGui::GetIO();
-            switch (e.type) {
-                case SDL_QUIT:
-                    return {};
-                case SDL_WINDOWEVENT:
-                    if (e.window.event == SDL_WINDOWEVENT_CLOSE) return {};
-                    break;
-                case SDL_KEYDOWN:
-                    switch (e.key.keysym.sym) {
-                        case SDLK_q:
-                        case SDLK_ESCAPE:
-                            return {};
-                        case SDLK_LEFT:
-                            focus(-1);
-                            break;
-                        case SDLK_RIGHT:
-                            focus(1);
-                            break;
-                        case SDLK_a:
-                            control(pipeline.autofocus());
-                            break;
-                        case SDLK_r:
-                            pipeline.resetPeak();
-                            break;
-                        case SDLK_g:
-                            if (state) {
-                                const auto [cols, rows] =
-                                    window::nextGrid(state->cols, state->rows);
-                                control(pipeline.setGrid(cols, rows));
-                            }
-                            break;
-                        case SDLK_p:
-                            if (state)
-                                control(pipeline.setPeaking(window::nextPeaking(state->peaking)));
-                            break;
-                        case SDLK_m:
-                            zoom = zoom == 1 ? 2 : 1;
-                            break;
-                        default:
-                            break;
-                    }
-                    break;
-                case SDL_MOUSEWHEEL:
-                    if (!io.WantCaptureMouse && e.wheel.y != 0) focus(e.wheel.y > 0 ? 1 : -1);
-                    break;
-                case SDL_MOUSEBUTTONDOWN:
-                    if (e.button.button == SDL_BUTTON_LEFT && !io.WantCaptureMouse && state &&
-                        pic.contains(e.button.x, e.button.y)) {
-                        dragFromWindow = {float(e.button.x), float(e.button.y)};
-                        dragFrom = dragTo = pic.toFrame(e.button.x, e.button.y);
-                    }
-                    break;
-                case SDL_MOUSEMOTION:
-                    if (dragFrom) dragTo = pic.toFrame(e.motion.x, e.motion.y);
-                    break;
-                case SDL_MOUSEBUTTONUP:
-                    if (e.button.button == SDL_BUTTON_LEFT && dragFrom && state) {
-                        const float moved = std::hypot(e.button.x - (*dragFromWindow)[0],
-                                                       e.button.y - (*dragFromWindow)[1]);
-                        const Rect r = rectBetween(*dragFrom, pic.toFrame(e.button.x, e.button.y),
-                                                   state->width, state->height);
-                        // A click clears the ROI; a drag too thin to score is a click too.
-                        control(pipeline.setScoreRoi(moved < kClickSlop || r.w < 4 || r.h < 4
-                                                         ? std::nullopt
-                                                         : std::optional<Rect>(r)));
-                        dragFrom.reset();
-                        dragTo.reset();
-                        dragFromWindow.reset();
-                    }
-                    break;
-                default:
-                    break;
+    Status run(const RunLimits& limits) {
+        const RunClock clock(limits);
+        for (;;) {
+            if (clock.done(state_.get())) return {};
+            if (view_.ended()) return view_.endStatus();
+            // Events first: keys and the mouse act on the picture drawn last.
+            bool dirty = false;
+            SDL_Event e;
+            while (SDL_PollEvent(&e)) {
+                dirty = true;
+                if (!handle(e)) return {};
             }
+            const std::optional<uint64_t> after =
+                state_ ? std::optional(state_->frame) : std::nullopt;
+            if (auto newer = view_.waitForState(after, kStateWait)) {
+                state_ = newer;
+                dirty = true;
+            }
+            if (!notes_.status.empty() && Clock::now() >= errorUntil_) notes_.status.clear();
+            if (!dirty && Clock::now() - lastDraw_ < kIdleRedraw) continue;
+            lastDraw_ = Clock::now();
+            draw();
         }
+    }
 
-        if (auto newer = pipeline.waitForState(state ? std::optional(state->frame) : std::nullopt,
-                                               kStateWait)) {
-            state = newer;
-            dirty = true;
+private:
+    void control(const Status& st) {
+        if (st) return;
+        notes_.status = st.error().message;
+        errorUntil_ = Clock::now() + kErrorShown;
+    }
+
+    // Acts on one event; false when it closes the window.
+    bool handle(const SDL_Event& e) {
+        ImGui_ImplSDL2_ProcessEvent(&e);
+        const ImGuiIO& io = ImGui::GetIO();
+        switch (e.type) {
+            case SDL_QUIT:
+                return false;
+            case SDL_WINDOWEVENT:
+                return e.window.event != SDL_WINDOWEVENT_CLOSE;
+            case SDL_KEYDOWN:
+                return key(e.key.keysym);
+            case SDL_MOUSEWHEEL:
+                if (!io.WantCaptureMouse && e.wheel.y != 0)
+                    control(present::apply(
+                        e.wheel.y > 0 ? present::Action::FocusUp : present::Action::FocusDown,
+                        view_, state_.get()));
+                break;
+            case SDL_MOUSEBUTTONDOWN:
+                if (e.button.button == SDL_BUTTON_LEFT && !io.WantCaptureMouse && state_ &&
+                    pic_.contains(e.button.x, e.button.y)) {
+                    dragFromWindow_ = {float(e.button.x), float(e.button.y)};
+                    dragFrom_ = dragTo_ = pic_.toFrame(e.button.x, e.button.y);
+                }
+                break;
+            case SDL_MOUSEMOTION:
+                if (dragFrom_) dragTo_ = pic_.toFrame(e.motion.x, e.motion.y);
+                break;
+            case SDL_MOUSEBUTTONUP:
+                if (e.button.button == SDL_BUTTON_LEFT && dragFrom_ && state_) endDrag(e.button);
+                break;
+            default:
+                break;
         }
-        if (!notes.status.empty() && Clock::now() >= errorUntil) notes.status.clear();
-        if (!dirty && Clock::now() - lastDraw < kIdleRedraw) continue;
-        lastDraw = Clock::now();
+        return true;
+    }
 
-        // The layout: the picture letterboxed left of the panel.
-        int ww = 0, wh = 0;
-        SDL_GetRendererOutputSize(d.renderer_, &ww, &wh);
-        int lw = 0, lh = 0;
-        SDL_GetWindowSize(d.window_, &lw, &lh);
-        if (state)
-            pic = window::letterbox(state->width, state->height,
-                                    std::max(1.0f, lw - window::kPanelWidth), float(lh));
+    // A key through the faces' shared map; false for quit.
+    bool key(const SDL_Keysym& k) {
+        const bool shift = (SDL_GetModState() & KMOD_SHIFT) != 0;
+        present::Key named = present::Key::Char;
+        if (k.sym == SDLK_LEFT) named = shift ? present::Key::ShiftLeft : present::Key::Left;
+        if (k.sym == SDLK_RIGHT) named = shift ? present::Key::ShiftRight : present::Key::Right;
+        if (k.sym == SDLK_ESCAPE) named = present::Key::Escape;
+        const char ch = k.sym > 0 && k.sym < 128 ? static_cast<char>(k.sym) : 0;
+        const present::Action action = present::actionForKey(named, ch);
+        if (action == present::Action::Quit) return false;
+        if (action == present::Action::ToggleMagnifier) zoom_ = zoom_ == 1 ? 2 : 1;
+        control(present::apply(action, view_, state_.get()));
+        return true;
+    }
 
-        // The magnifier follows the mouse over the picture, throttled; off the picture it hides.
-        int mx = 0, my = 0;
-        SDL_GetMouseState(&mx, &my);
-        const bool over = state && pic.contains(mx, my) && !ImGui::GetIO().WantCaptureMouse &&
-                          (SDL_GetWindowFlags(d.window_) & SDL_WINDOW_MOUSE_FOCUS);
+    // A drag scores the region it spans; a click (or a drag too thin to score) the whole frame.
+    void endDrag(const SDL_MouseButtonEvent& b) {
+        const float moved = std::hypot(b.x - (*dragFromWindow_)[0], b.y - (*dragFromWindow_)[1]);
+        const Rect r =
+            rectBetween(*dragFrom_, pic_.toFrame(b.x, b.y), state_->width, state_->height);
+        control(view_.setScoreRoi(
+            moved < kClickSlop || r.w < 4 || r.h < 4 ? std::nullopt : std::optional<Rect>(r)));
+        dragFrom_.reset();
+        dragTo_.reset();
+        dragFromWindow_.reset();
+    }
+
+    // The magnifier follows the mouse over the picture, throttled; off the picture it hides.
+    bool followMouse(int mx, int my) {
+        const bool over = state_ && pic_.contains(mx, my) && !ImGui::GetIO().WantCaptureMouse &&
+                          (SDL_GetWindowFlags(d_.window_) & SDL_WINDOW_MOUSE_FOCUS);
         std::optional<std::array<int, 3>> wanted;
         if (over) {
-            const auto f = pic.toFrame(mx, my);
-            wanted = std::array<int, 3>{int(f[0]), int(f[1]), zoom};
+            const auto f = pic_.toFrame(mx, my);
+            wanted = std::array<int, 3>{int(f[0]), int(f[1]), zoom_};
         }
-        if (wanted != sentMagnifier && Clock::now() - lastMagnifier >= kMagnifierPeriod) {
-            control(pipeline.setMagnifier(wanted));
-            sentMagnifier = wanted;
-            lastMagnifier = Clock::now();
+        if (wanted != sentMagnifier_ && Clock::now() - lastMagnifier_ >= kMagnifierPeriod) {
+            control(view_.setMagnifier(wanted));
+            sentMagnifier_ = wanted;
+            lastMagnifier_ = Clock::now();
         }
+        return over;
+    }
 
-        // The pictures: uploaded once per state, the same textures drawn until the next.
-        if (state && state->preview && state->frame != shownPicture) {
-            d.uploadLuma(d.picture_, *state->preview);
-            shownPicture = state->frame;
+    // The pictures: uploaded once per state, the same textures drawn until the next.
+    bool upload() {
+        const LiveState* s = state_.get();
+        if (s && s->preview && s->frame != shownPicture_) {
+            d_.uploadLuma(d_.picture_, *s->preview);
+            shownPicture_ = s->frame;
         }
-        const bool peaking = state && state->peakingMask && state->peaking != PeakingMode::Off;
-        if (peaking && state->frame != shownPeaking) {
-            d.uploadPeaking(*state->peakingMask);
-            shownPeaking = state->frame;
+        const bool peaking = s && s->peakingMask && s->peaking != PeakingMode::Off;
+        if (peaking && s->frame != shownPeaking_) {
+            d_.uploadPeaking(*s->peakingMask);
+            shownPeaking_ = s->frame;
         }
-        if (state && state->magnifier && state->magnifier->crop.data() &&
-            state->frame != shownMagnifier) {
-            d.uploadLuma(d.magnifier_, state->magnifier->crop);
-            shownMagnifier = state->frame;
+        if (s && s->magnifier && s->magnifier->crop.data() && s->frame != shownMagnifier_) {
+            d_.uploadLuma(d_.magnifier_, s->magnifier->crop);
+            shownMagnifier_ = s->frame;
         }
+        return peaking;
+    }
+
+    void draw() {
+        // The layout: the picture letterboxed left of the panel.
+        int ww = 0, wh = 0, lw = 0, lh = 0;
+        SDL_GetRendererOutputSize(d_.renderer_, &ww, &wh);
+        SDL_GetWindowSize(d_.window_, &lw, &lh);
+        if (state_)
+            pic_ = window::letterbox(state_->width, state_->height,
+                                     std::max(1.0f, lw - window::kPanelWidth), float(lh));
+        int mx = 0, my = 0;
+        SDL_GetMouseState(&mx, &my);
+        const bool over = followMouse(mx, my);
+        const bool peaking = upload();
 
         ImGui_ImplSDLRenderer_NewFrame();
         ImGui_ImplSDL2_NewFrame();
         ImGui::NewFrame();
-        if (state) {
+        if (state_) {
             window::OverlayNotes overlay;
-            if (dragFrom && dragTo)
-                overlay.dragRoi = rectBetween(*dragFrom, *dragTo, state->width, state->height);
-            if (over && sentMagnifier) {
+            if (dragFrom_ && dragTo_)
+                overlay.dragRoi = rectBetween(*dragFrom_, *dragTo_, state_->width, state_->height);
+            if (over && sentMagnifier_) {
                 overlay.mouse = std::array<float, 2>{float(mx), float(my)};
-                overlay.magnifierTexture = d.magnifier_.texture;
+                overlay.magnifierTexture = d_.magnifier_.texture;
             }
-            window::drawOverlays(*ImGui::GetBackgroundDrawList(), *state, pic, overlay);
+            window::drawOverlays(*ImGui::GetBackgroundDrawList(), *state_, pic_, overlay);
         }
         const Clock::time_point drawnAt = Clock::now();
-        drawn.push_back(drawnAt);
-        while (drawn.size() > 2 && drawn.front() < drawnAt - std::chrono::seconds(1))
-            drawn.pop_front();
-        const double span = std::chrono::duration<double>(drawn.back() - drawn.front()).count();
-        notes.drawFps = span > 0 ? (drawn.size() - 1) / span : 0.0;
-        notes.magnifierZoom = zoom;
-        window::drawPanel(state.get(), notes, float(lw), float(lh));
+        drawn_.push_back(drawnAt);
+        while (drawn_.size() > 2 && drawn_.front() < drawnAt - std::chrono::seconds(1))
+            drawn_.pop_front();
+        const double span = std::chrono::duration<double>(drawn_.back() - drawn_.front()).count();
+        notes_.drawFps = span > 0 ? (drawn_.size() - 1) / span : 0.0;
+        notes_.magnifierZoom = zoom_;
+        window::drawPanel(state_.get(), notes_, float(lw), float(lh));
         ImGui::Render();
 
-        SDL_SetRenderDrawColor(d.renderer_, 18, 18, 22, 255);
-        SDL_RenderClear(d.renderer_);
-        if (state && d.picture_.texture && shownPicture != UINT64_MAX) {
+        SDL_SetRenderDrawColor(d_.renderer_, 18, 18, 22, 255);
+        SDL_RenderClear(d_.renderer_);
+        if (state_ && d_.picture_.texture && shownPicture_ != UINT64_MAX) {
             // Window coordinates to output pixels (they differ on a high-DPI display).
             const float sx = lw > 0 ? float(ww) / lw : 1.0f, sy = lh > 0 ? float(wh) / lh : 1.0f;
-            const SDL_Rect dst{int(pic.x * sx), int(pic.y * sy), int(std::lround(pic.w * sx)),
-                               int(std::lround(pic.h * sy))};
-            SDL_RenderCopy(d.renderer_, d.picture_.texture, nullptr, &dst);
-            if (peaking && d.peaking_.texture)
-                SDL_RenderCopy(d.renderer_, d.peaking_.texture, nullptr, &dst);
+            const SDL_Rect dst{int(pic_.x * sx), int(pic_.y * sy), int(std::lround(pic_.w * sx)),
+                               int(std::lround(pic_.h * sy))};
+            SDL_RenderCopy(d_.renderer_, d_.picture_.texture, nullptr, &dst);
+            if (peaking && d_.peaking_.texture)
+                SDL_RenderCopy(d_.renderer_, d_.peaking_.texture, nullptr, &dst);
         }
         ImGui_ImplSDLRenderer_RenderDrawData(ImGui::GetDrawData());
-        SDL_RenderPresent(d.renderer_);
+        SDL_RenderPresent(d_.renderer_);
     }
+
+    Display& d_;
+    LiveView& view_;
+    std::shared_ptr<const LiveState> state_;
+    window::PanelNotes notes_;
+    window::PictureRect pic_;
+    Clock::time_point errorUntil_ = Clock::now(), lastMagnifier_ = Clock::now(),
+                      lastDraw_ = Clock::now();
+    uint64_t shownPicture_ = UINT64_MAX, shownPeaking_ = UINT64_MAX, shownMagnifier_ = UINT64_MAX;
+    std::deque<Clock::time_point> drawn_;  // the last second's draws, for the drawn rate
+    int zoom_ = 1;
+    std::optional<std::array<int, 3>> sentMagnifier_;
+    std::optional<std::array<float, 2>> dragFrom_, dragTo_;  // frame pixels
+    std::optional<std::array<float, 2>> dragFromWindow_;
+};
+
+// The window as a face: a display is checked before the camera opens, the picture kept at full
+// size; no window after all (SDL_CreateWindow failed) is a usage error, like no display.
+class WindowFace final : public Face {
+public:
+    Status prepare(LiveOptions& options) override {
+        if (Status st = windowDisplayCheck(); !st)
+            return makeError(ErrorKind::Usage, st.error().message);
+        options.previewLongSide = std::max(options.previewLongSide, kWindowPreviewLongSide);
+        return {};
+    }
+    Status run(LiveView& view, const RunLimits& limits) override {
+        Status st = runWindow(view, limits);
+        if (!st && st.error().kind == ErrorKind::Unsupported && !view.ended())
+            return makeError(ErrorKind::Usage, st.error().message);
+        return st;
+    }
+};
+
+}  // namespace
+
+Status runWindow(LiveView& view, const RunLimits& limits) {
+    Display d;
+    if (Status st = d.open(); !st) return st;
+    return WindowLoop(d, view).run(limits);
 }
 
 }  // namespace infocus
+
+extern "C" __attribute__((visibility("default"))) const infocus::FaceModule* infocus_window_face() {
+    static const infocus::FaceModule table{
+        infocus::kFaceModuleAbi,
+        [](const infocus::FaceSettings&) -> infocus::Face* { return new infocus::WindowFace(); }};
+    return &table;
+}

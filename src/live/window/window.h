@@ -6,12 +6,9 @@
 /// face it reads the newest LiveState and sends only LiveControls.
 #pragma once
 
-#include <atomic>
-#include <cstdint>
-#include <optional>
-
 #include "infocus/error.h"
 #include "infocus/live.h"
+#include "src/live/face.h"
 
 namespace infocus {
 
@@ -19,26 +16,18 @@ namespace infocus {
 /// state's preview (and the peaking mask) is the full-resolution luma, not a reduction.
 inline constexpr int kWindowPreviewLongSide = 1 << 15;
 
-/// How long the window face runs.
-struct WindowOptions {
-    std::optional<double> seconds;   ///< return after this many seconds of wall time
-    std::optional<uint64_t> frames;  ///< return once this many frames have been analysed
-    /// Set by the caller (from any thread) to make runWindow return; may be null.
-    const std::atomic<bool>* stop = nullptr;
-};
-
 /// Whether a window can be opened here: a display is named (DISPLAY or WAYLAND_DISPLAY) and SDL
 /// can start its video subsystem on it (not only its offscreen or dummy driver).
 /// ErrorKind::Unsupported naming the other faces otherwise; call it before opening the camera so
 /// a headless run fails at once. On success SDL's video stays initialised for runWindow.
 Status windowDisplayCheck();
 
-/// Shows @p pipeline in a window until `q`/Esc, closing the window, SIGINT/SIGTERM (through
-/// @p options' stop), @p options' limits or the pipeline's end. The pipeline must have been
+/// Shows @p view in a window until `q`/Esc, closing the window, @p limits (their stop flag set
+/// by SIGINT/SIGTERM) or the view's end. The pipeline must have been
 /// opened with LiveOptions::previewLongSide = kWindowPreviewLongSide to show the picture at full
 /// resolution (a smaller preview is shown scaled). The caller starts and stops the pipeline.
-/// Returns the pipeline's endStatus() when it ended; ErrorKind::Unsupported when no window or
+/// Returns the view's endStatus() when it ended; ErrorKind::Unsupported when no window or
 /// renderer can be created.
-Status runWindow(LivePipeline& pipeline, const WindowOptions& options);
+Status runWindow(LiveView& view, const RunLimits& limits);
 
 }  // namespace infocus

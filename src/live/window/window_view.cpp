@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "infocus/units.h"
+#include "src/live/present.h"
 
 namespace infocus::window {
 
@@ -20,6 +20,7 @@ constexpr ImU32 kSharp = IM_COL32(40, 220, 90, 255);
 constexpr ImU32 kNear = IM_COL32(235, 220, 40, 255);
 constexpr ImU32 kSoft = IM_COL32(255, 140, 30, 255);
 constexpr ImU32 kBlurred = IM_COL32(240, 50, 50, 255);
+constexpr ImU32 kUnknown = IM_COL32(150, 150, 150, 255);
 constexpr int kFillAlpha = 48;
 constexpr int kOutlineAlpha = 150;
 constexpr ImU32 kInFocusLine = IM_COL32(0, 230, 255, 255);
@@ -34,18 +35,21 @@ ImU32 withAlpha(ImU32 c, int alpha) {
     return (c & ~IM_COL32_A_MASK) | (static_cast<ImU32>(alpha) << IM_COL32_A_SHIFT);
 }
 
-ImU32 heatColour(double blurPx, double cocPx) {
-    const double ratio = cocPx > 0 ? blurPx / cocPx : blurPx;
-    if (ratio <= 1.0) return kSharp;
-    if (ratio <= 2.0) return kNear;
-    if (ratio <= 4.0) return kSoft;
-    return kBlurred;
-}
-
-std::string distanceText(std::optional<double> m) {
-    if (!m) return "-";
-    if (std::isinf(*m)) return "∞";
-    return formatDistance(*m);
+// The heat map's colour of a region; grey for a reading under the confidence the engine trusts.
+ImU32 heatColour(present::Heat heat) {
+    switch (heat) {
+        case present::Heat::InCoc:
+            return kSharp;
+        case present::Heat::Near:
+            return kNear;
+        case present::Heat::Far:
+            return kSoft;
+        case present::Heat::Beyond:
+            return kBlurred;
+        case present::Heat::Unknown:
+            break;
+    }
+    return kUnknown;
 }
 
 // The score with four significant digits, as the terminal meter shows it.
@@ -131,31 +135,13 @@ PictureRect letterbox(int frameW, int frameH, float areaW, float areaH) {
     return r;
 }
 
-std::array<int, 2> nextGrid(int cols, int rows) {
-    if (cols == 16 && rows == 9) return {8, 6};
-    if (cols == 8 && rows == 6) return {4, 3};
-    return {16, 9};
-}
-
-PeakingMode nextPeaking(PeakingMode m) {
-    switch (m) {
-        case PeakingMode::Off:
-            return PeakingMode::Coc;
-        case PeakingMode::Coc:
-            return PeakingMode::Percentile;
-        case PeakingMode::Percentile:
-            return PeakingMode::Off;
-    }
-    return PeakingMode::Off;
-}
-
 void drawOverlays(ImDrawList& dl, const LiveState& s, const PictureRect& pic,
                   const OverlayNotes& notes) {
     // The heat map: each region's blur against the circle of confusion, its number where the
     // cell is wide enough to hold it.
     for (const LiveRegion& r : s.regions) {
         if (!r.blurPx) continue;
-        const ImU32 c = heatColour(*r.blurPx, s.cocPx);
+        const ImU32 c = heatColour(present::heatOf(r, s.cocPx));
         const ImVec2 a(pic.x + r.rect.x * pic.scale + 1, pic.y + r.rect.y * pic.scale + 1);
         const ImVec2 b(pic.x + (r.rect.x + r.rect.w) * pic.scale - 1,
                        pic.y + (r.rect.y + r.rect.h) * pic.scale - 1);
@@ -262,7 +248,7 @@ void drawPanel(const LiveState* s, const PanelNotes& notes, float windowW, float
     } else {
         row("lens", s->hasFocusControl ? "-" : "no focus control");
     }
-    row("in focus at", distanceText(s->inFocusDistanceM));
+    row("in focus at", present::distanceText(s->inFocusDistanceM));
     if (s->autofocusRunning) ImGui::TextColored(ImVec4(1, 0.85f, 0.2f, 1), "autofocus running…");
 
     ImGui::Separator();
@@ -275,7 +261,8 @@ void drawPanel(const LiveState* s, const PanelNotes& notes, float windowW, float
     row("within CoC",
         std::to_string(s->regionsInCoc) + " of " + std::to_string(s->regionsWithBlur) + " regions");
     if (s->dofNearM)
-        row("depth of field", distanceText(s->dofNearM) + " to " + distanceText(s->dofFarM));
+        row("depth of field",
+            present::distanceText(s->dofNearM) + " to " + present::distanceText(s->dofFarM));
     else
         row("depth of field", "needs --focal and --fnumber (or --lens)");
     row("tilt", s->tiltDeg ? fmt("%.1f°", *s->tiltDeg) : std::string("-"));

@@ -35,12 +35,6 @@ struct PictureRect {
 /// (@p areaW × @p areaH at the window's origin); empty for an empty frame or area.
 PictureRect letterbox(int frameW, int frameH, float areaW, float areaH);
 
-/// The grid after cols × rows in the cycle 16x9 → 8x6 → 4x3 → 16x9 (another grid goes to 16x9).
-std::array<int, 2> nextGrid(int cols, int rows);
-
-/// The peaking mode after @p m in the cycle off → coc → percentile → off.
-PeakingMode nextPeaking(PeakingMode m);
-
 /// What the window adds to the state's picture: the ROI being dragged and the magnifier inset.
 struct OverlayNotes {
     std::optional<Rect> dragRoi;                ///< frame pixels, while the left button is held
@@ -48,7 +42,8 @@ struct OverlayNotes {
     std::optional<std::array<float, 2>> mouse;  ///< window pixels, over the picture
 };
 
-/// Draws the region heat map (blur against the circle of confusion, the number where it fits),
+/// Draws the region heat map (blur against the circle of confusion, grey under the confidence
+/// the engine trusts, the number where it fits),
 /// the in-focus line, the ROI and the magnifier inset of @p s over the picture at @p pic.
 void drawOverlays(ImDrawList& dl, const LiveState& s, const PictureRect& pic,
                   const OverlayNotes& notes);

@@ -190,10 +190,12 @@ function fitCanvas(canvas, aspect) {
   return dpr;
 }
 
-function blurColour(blur, coc, alpha) {
-  const r = blur / coc;
-  const rgb = r <= 1 ? "61,220,132" : r <= 2 ? "255,214,64" : r <= 4 ? "255,140,40" : "255,70,60";
-  return `rgba(${rgb},${alpha})`;
+// The heat class each region carries in the state (blur against the circle of confusion, from a
+// reading the engine is confident in); "unknown" regions are left unshaded.
+const kHeatRgb = { in_coc: "61,220,132", near: "255,214,64", far: "255,140,40", beyond: "255,70,60" };
+
+function heatColour(heat, alpha) {
+  return `rgba(${kHeatRgb[heat]},${alpha})`;
 }
 
 function drawPreview() {
@@ -233,7 +235,6 @@ function drawPreview() {
 // drawHeat tints each confident region by its blur against the circle of confusion, and writes
 // the blur where the cell is wide enough for the digits.
 function drawHeat(g, s, k, dpr) {
-  const coc = s.coc_px || 2;
   // Digits grow with the cells (a coarse grid on a desktop), from 10 to 16 px.
   const cell = s.regions && s.regions.length ? (s.regions[0].w * k) / dpr : 0;
   g.font = `600 ${Math.min(16, Math.max(10, cell / 4)) * dpr}px system-ui, sans-serif`;
@@ -251,8 +252,8 @@ function drawHeat(g, s, k, dpr) {
       }
       continue;
     }
-    if (r.blur_px == null || r.confidence < 0.25) continue;
-    g.fillStyle = blurColour(r.blur_px, coc, 0.28);
+    if (r.blur_px == null || !(r.heat in kHeatRgb)) continue;
+    g.fillStyle = heatColour(r.heat, 0.28);
     g.fillRect(x, y, w, h);
     if (w >= 20 * dpr && h >= 12 * dpr) {
       const text = r.blur_px < 10 ? r.blur_px.toFixed(1) : r.blur_px.toFixed(0);

@@ -3,7 +3,8 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "infocus/output.h"
+#include "infocus/live.h"
+#include "src/live/present.h"
 
 namespace infocus {
 
@@ -95,7 +96,8 @@ std::string liveStateJson(const LiveState& s) {
              {"confidence", r.confidence},
              {"status", std::string(regionStatusName(r.status))},
              {"depth_m",
-              r.depthNearM ? Json::array({number(r.depthNearM), number(r.depthFarM)}) : Json()}});
+              r.depthNearM ? Json::array({number(r.depthNearM), number(r.depthFarM)}) : Json()},
+             {"heat", std::string(present::heatName(present::heatOf(r, s.cocPx)))}});
     j["regions"] = std::move(regions);
     j["peaking"] = std::string(peakingModeName(s.peaking));
     j["roi"] = s.scoreRoi ? Json{s.scoreRoi->x, s.scoreRoi->y, s.scoreRoi->w, s.scoreRoi->h}
