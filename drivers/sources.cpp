@@ -44,7 +44,7 @@ Result<std::unique_ptr<FrameSource>> openSource(const SourceSpec& spec) {
                      "source '" + spec.text + "': unknown source kind '" + spec.kind + "'");
 }
 
-Result<std::vector<DeviceInfo>> listDevices() {
+std::vector<DeviceInfo> listDevices(std::vector<UnlistedBackend>& unlisted) {
     std::vector<DeviceInfo> all;
 #if HAVE_V4L2
     for (auto& d : v4l2::listV4l2Devices())
@@ -52,10 +52,23 @@ Result<std::vector<DeviceInfo>> listDevices() {
 #endif
 #if HAVE_LIBCAMERA
     auto cams = libcam::listLibcameraDevices();
-    if (!cams) return cams.error();
-    for (auto& d : *cams)
-        all.push_back(std::move(d));
+    if (cams) {
+        for (auto& d : *cams)
+            all.push_back(std::move(d));
+    } else {
+        unlisted.push_back({"libcamera", cams.error().message});
+    }
 #endif
+    (void)unlisted;
+    return all;
+}
+
+Result<std::vector<DeviceInfo>> listDevices() {
+    std::vector<UnlistedBackend> unlisted;
+    auto all = listDevices(unlisted);
+    if (!unlisted.empty())
+        return makeError(ErrorKind::Device,
+                         unlisted.front().backend + " cameras: " + unlisted.front().why);
     return all;
 }
 

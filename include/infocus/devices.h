@@ -62,8 +62,17 @@ struct DeviceInfo {
     std::vector<DeviceControl> controls;  ///< exposure, gain and sharpness controls, where present
 };
 
-/// Lists every camera of every backend this infocus was built with. An empty list is not an
-/// error; an Error only when a backend itself fails (e.g. libcamera cannot start).
+/// A camera backend that could not be asked for its cameras, and why.
+struct UnlistedBackend {
+    std::string backend;  ///< "libcamera"
+    std::string why;      ///< the backend's error: its module missing, libcamera not starting
+};
+
+/// Lists every camera of every backend this infocus was built with. A backend that cannot be
+/// asked is named in @p unlisted and the others are still listed. An empty list is not an error.
+std::vector<DeviceInfo> listDevices(std::vector<UnlistedBackend>& unlisted);
+
+/// listDevices, with the first backend that could not be asked as the error.
 Result<std::vector<DeviceInfo>> listDevices();
 
 /// The kinds of camera this infocus can list, for help texts: "cameras (V4L2 nodes, libcamera

@@ -91,8 +91,14 @@ void printText(const std::vector<DeviceInfo>& devices) {
 }
 
 int runDevices(const DevicesArgs& args) {
-    auto devices = listDevices();
-    if (!devices) return reportError("devices", devices.error());
+    std::vector<UnlistedBackend> unlisted;
+    const std::vector<DeviceInfo> found = listDevices(unlisted);
+    const std::vector<DeviceInfo>* devices = &found;
+    // What could not be asked is said, and the rest still listed: a missing libcamera module
+    // hides no V4L2 camera.
+    for (const UnlistedBackend& u : unlisted)
+        std::cerr << "infocus devices: " << u.backend << " cameras are not listed: " << u.why
+                  << "\n";
     if (args.json) {
         auto all = nlohmann::ordered_json::array();
         for (const auto& d : *devices) {
