@@ -20,7 +20,7 @@ niceness=${FUZZ_NICE:-0}
 builddir=build-fuzz
 
 if ! command -v clang++ >/dev/null || ! compgen -G "/usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a" >/dev/null; then
-	echo "fuzz.sh: needs clang and libclang-rt-dev (scripts/install-deps.sh)" >&2
+	echo "fuzz.sh: needs clang and libclang-rt-dev (scripts/install-deps.sh --test)" >&2
 	exit 77
 fi
 if [[ ! -f "$builddir/build.ninja" ]]; then

@@ -1,16 +1,30 @@
 #!/usr/bin/env bash
-# Installs the Debian bookworm packages infocus needs to build and test.
-# Idempotent: packages already installed are skipped. Works as root or through sudo.
-# Usage: scripts/install-deps.sh [--vm]   (--vm adds what the real-driver VM tier needs)
+# Installs the Debian bookworm packages infocus needs to build and run, and with --test what its
+# tests need too. Idempotent: packages already installed are skipped. Works as root or through sudo.
+# Usage: scripts/install-deps.sh [--test] [--vm]
+#   (none)  building and running infocus (scripts/run.sh)
+#   --test  also the test machinery: a terminal multiplexer, a browser and its driver, a virtual
+#           display, the formatter, clang for the fuzzers (scripts/test.sh)
+#   --vm    also what the real-driver VM tier needs (tests/vm/run.sh)
 set -euo pipefail
 
-pkgs=(meson ninja-build pkg-config g++ clang-format
+# Building and running: the compiler and build tools, and the libraries of every part and face.
+pkgs=(meson ninja-build pkg-config g++
 	libopencv-dev libcamera-dev catch2 libturbojpeg0-dev libjpeg-dev libpng-dev
-	libcli11-dev nlohmann-json3-dev libncurses-dev tmux libcpp-httplib-dev
+	libcli11-dev nlohmann-json3-dev libncurses-dev libcpp-httplib-dev
+	libsdl2-dev libimgui-dev)
+test_pkgs=(clang-format tmux
 	chromium chromium-driver python3-selenium
-	libsdl2-dev libimgui-dev xvfb x11-apps imagemagick
+	xvfb x11-apps imagemagick
 	clang libclang-rt-dev) # clang: the fuzzers (scripts/fuzz.sh) and --sanitize=clang
-if [[ "${1:-}" == "--vm" ]]; then
+for arg in "$@"; do
+	case $arg in
+	--test) pkgs+=("${test_pkgs[@]}") ;;
+	--vm) ;;
+	*) echo "install-deps: unknown option '$arg'; use --test and/or --vm" >&2; exit 2 ;;
+	esac
+done
+if [[ " $* " == *" --vm "* ]]; then
 	pkgs+=(qemu-system-x86 linux-image-amd64 busybox-static v4l-utils cpio
 		linux-source-6.1 libcamera-ipa libcamera-tools udev xz-utils make bc
 		flex bison libelf-dev libssl-dev linux-headers-amd64)

@@ -41,7 +41,7 @@ if [[ "${1:-}" == --sanitize* ]]; then
 	export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 fi
 
-scripts/install-deps.sh || exit 1
+scripts/install-deps.sh --test || exit 1
 if [[ ! -f "$builddir/build.ninja" ]]; then
 	meson setup "$builddir" "${opts[@]}" >/dev/null || { echo "meson setup failed" >&2; exit 1; }
 elif [[ ${#opts[@]} -gt 0 ]]; then
