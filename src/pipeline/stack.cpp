@@ -369,6 +369,8 @@ Result<StackResult> analyzeStack(std::string_view source, const StackOptions& op
     std::atomic<size_t> next{0};
     std::mutex failMutex;
     std::optional<Error> failure;
+    std::mutex progressMutex;
+    uint64_t done = 0;
     const auto work = [&] {
         auto analyzer = Analyzer::create(ao);
         if (!analyzer) {
@@ -403,13 +405,19 @@ Result<StackResult> analyzeStack(std::string_view source, const StackOptions& op
             sharpness(luma, rects, corrected, s1);
             for (size_t k = 0; k < rects.size(); ++k)
                 m.noise.push_back(std::max(0.0, s0[k] - s1[k]));
-            if (!options.maps) continue;
-            m.scores.resize(windows.size());
-            sharpness(luma, windows, sp, m.scores);
-            m.luma.resize(static_cast<size_t>(r.width) * r.height);
-            for (int y = 0; y < r.height; ++y)
-                std::copy_n(luma.row(y), r.width, m.luma.data() + static_cast<size_t>(y) * r.width);
-            frames[i] = Frame{};  // its bytes are no longer needed
+            if (options.maps) {
+                m.scores.resize(windows.size());
+                sharpness(luma, windows, sp, m.scores);
+                m.luma.resize(static_cast<size_t>(r.width) * r.height);
+                for (int y = 0; y < r.height; ++y)
+                    std::copy_n(luma.row(y), r.width,
+                                m.luma.data() + static_cast<size_t>(y) * r.width);
+                frames[i] = Frame{};  // its bytes are no longer needed
+            }
+            if (options.progress) {
+                std::lock_guard lock(progressMutex);
+                options.progress(++done, n);
+            }
         }
     };
     const int threads = std::clamp(options.threads, 1, 64);
