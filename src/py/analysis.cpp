@@ -424,11 +424,14 @@ void registerAnalysis(pb::module_& m) {
         [](const std::string& source, std::pair<int, int> grid, const std::string& metric,
            bool blur, const std::optional<std::vector<std::array<int, 4>>>& roi,
            const std::optional<Lens>& lens, const std::string& transfer, uint64_t frames,
-           const pb::object& progress) {
+           unsigned jobs, const pb::object& progress) {
             const Request q = request(grid, metric, blur, roi, lens, transfer);
             Progress report(progress);
             std::vector<FrameAnalysis> results;
-            uint64_t total = 0;
+            StreamOptions stream;
+            stream.jobs = jobs > 0 ? jobs : defaultJobs();
+            if (!report.empty())
+                stream.progress = [&](uint64_t done, uint64_t total) { report(done, total); };
             Status st;
             {
                 pb::gil_scoped_release release;
@@ -436,14 +439,9 @@ void registerAnalysis(pb::module_& m) {
                     source, q.options, frames,
                     [&](const FrameAnalysis& a) -> Status {
                         results.push_back(a);
-                        report(results.size(), total);
                         return {};
                     },
-                    {},
-                    [&](const SourceInfo& info, const AnalysisOptions&) {
-                        if (info.frameCount) total = static_cast<uint64_t>(*info.frameCount);
-                        if (frames && (total == 0 || frames < total)) total = frames;
-                    });
+                    {}, {}, stream);
             }
             report.rethrow();
             if (!st) raise(st.error());
@@ -458,10 +456,11 @@ void registerAnalysis(pb::module_& m) {
         },
         pb::arg("source"), pb::arg("grid") = std::pair<int, int>{16, 9}, pb::arg("metric") = "teng",
         pb::arg("blur") = true, pb::arg("roi") = pb::none(), pb::arg("lens") = pb::none(),
-        pb::arg("transfer") = "linear", pb::arg("frames") = 0, pb::arg("progress") = pb::none(),
-        "Measures every frame of a source (up to `frames`, 0: all) as `infocus analyze` does, "
-        "and returns a list of Analysis; progress(done, total) is called as frames are done "
-        "(total 0 when unknown).");
+        pb::arg("transfer") = "linear", pb::arg("frames") = 0, pb::arg("jobs") = 0,
+        pb::arg("progress") = pb::none(),
+        "Measures every frame of a source (up to `frames`, 0: all) as `infocus analyze --jobs` "
+        "does (jobs 0: the machine's cores), and returns a list of Analysis; progress(done, "
+        "total) is called as frames are done (total 0 when unknown).");
 }
 
 }  // namespace infocus::py

@@ -59,7 +59,8 @@ void registerStack(pb::module_& m) {
                 for (size_t i = 0; i < frames; ++i) {
                     sm(g.row, g.col, i) =
                         g.usable[i] ? g.sharpness[i] : std::numeric_limits<double>::quiet_NaN();
-                    bm(g.row, g.col, i) = orNan(g.blurWidth[i]);
+                    bm(g.row, g.col, i) = g.usable[i] ? orNan(g.blurWidth[i])
+                                                      : std::numeric_limits<double>::quiet_NaN();
                 }
             out["sharpness_curves"] = sharp;
             out["blur_width_curves"] = blur;
