@@ -10,7 +10,8 @@ pkgs=(meson ninja-build pkg-config g++ clang-format
 	chromium chromium-driver python3-selenium
 	libsdl2-dev libimgui-dev xvfb x11-apps imagemagick
 	clang libclang-rt-dev) # clang: the fuzzers (scripts/fuzz.sh) and --sanitize=clang
-pkgs+=(pybind11-dev python3-dev)  # building the Python module (src/py); running it needs python3
+pkgs+=(pybind11-dev)  # building the Python module (src/py) only
+pkgs+=(python3-dev)  # building the Python module (its headers); running it needs python3 only
 pkgs+=(python3-numpy)  # running the Python module (its arrays are NumPy's) and its tests
 pkgs+=(python3-pytest)  # tests only: the Python module's suite (tests/py)
 pkgs+=(python3-opencv)  # bench only: the python row's baseline, OpenCV's Laplacian from Python
