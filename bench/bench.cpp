@@ -15,6 +15,8 @@ void runAll(const BenchOptions& options, const RowSink& sink) {
     if (wanted("mjpeg")) benchMjpeg(options, sink);
     if (wanted("blur")) benchBlur(options, sink);
     if (wanted("stack")) benchStack(options, sink);
+    if (wanted("jobs")) benchJobs(options, sink);
+    if (wanted("python")) benchPython(options, sink);
     if (wanted("live") && options.liveSeconds > 0) benchLive(options, sink);
 }
 

@@ -48,13 +48,14 @@ struct BenchRow {
 struct BenchOptions {
     double secondsPerCase = 0.25;  ///< time budget for each timed loop
     double liveSeconds = 20.0;     ///< length of each live run (0: no live rows)
-    /// Only this family of rows ("sharpness", "mjpeg", "blur", "stack", "live"); empty: all.
+    /// Only this family of rows (benchFamilies()); empty: all.
     std::string only;
 };
 
 /// The families of rows BenchOptions::only chooses from.
 inline const std::vector<std::string>& benchFamilies() {
-    static const std::vector<std::string> families{"sharpness", "mjpeg", "blur", "stack", "live"};
+    static const std::vector<std::string> families{"sharpness", "mjpeg",  "blur", "stack",
+                                                   "jobs",      "python", "live"};
     return families;
 }
 
@@ -80,6 +81,14 @@ void benchMjpeg(const BenchOptions& options, const RowSink& sink);
 void benchBlur(const BenchOptions& options, const RowSink& sink);
 /// `infocus stack` on 16 JPEG frames of 2048×1536 (one row, ms per stack) against one thread.
 void benchStack(const BenchOptions& options, const RowSink& sink);
+/// `infocus analyze` over a 300-frame 1080p recording (made in a temporary directory and removed)
+/// with one job a core against one job: ms a frame of each, frames a second in the note.
+void benchJobs(const BenchOptions& options, const RowSink& sink);
+/// `infocus.analyze` from Python (bench_python.py run by the Python the module was built for) on
+/// 1080p frames against OpenCV's Laplacian variance per region in a Python loop, and the same
+/// frames from two Python threads against one; a note says why when Python or the module is
+/// missing.
+void benchPython(const BenchOptions& options, const RowSink& sink);
 /// Recordings (1080p60 YUYV, 1080p30 MJPEG, 2160p30 YUYV; made in a temporary directory and
 /// removed) replayed at their own pace through the live pipeline for options.liveSeconds each,
 /// beside the same pipeline measuring with an OpenCV composition (liveBaselineName()).

@@ -17,6 +17,10 @@ test_pkgs=(clang-format tmux
 	chromium chromium-driver python3-selenium
 	xvfb x11-apps imagemagick
 	clang libclang-rt-dev) # clang: the fuzzers (scripts/fuzz.sh) and --sanitize=clang
+# The Python module (src/py): pybind11 and Python's headers to build it, NumPy to run it.
+pkgs+=(pybind11-dev python3-dev python3-numpy)
+# Tests only: the Python module's suite, and OpenCV from Python for the bench's python baseline.
+test_pkgs+=(python3-pytest python3-opencv)
 for arg in "$@"; do
 	case $arg in
 	--test) pkgs+=("${test_pkgs[@]}") ;;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -46,6 +47,9 @@ struct StackOptions {
     int mapStepPx = 16;  ///< step of the dense focus map, pixels (its windows are twice as wide)
     bool maps = true;    ///< build the dense map and the composite (they keep every frame's luma)
     int threads = 2;     ///< frames analysed at once
+    /// Told (frames measured, frames in the stack) after each frame is measured, one call at a
+    /// time from the measuring threads; may be empty.
+    std::function<void(uint64_t done, uint64_t total)> progress;
 };
 
 /// One frame of the stack.

@@ -9,6 +9,8 @@
 #include <memory>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "commands.h"
 #include "infocus/analysis.h"
 #include "infocus/analysis_output.h"
@@ -16,6 +18,7 @@
 #include "infocus/pipeline.h"
 #include "infocus/source.h"
 #include "parse.h"
+#include "progress.h"
 
 namespace infocus::cli {
 
@@ -34,6 +37,8 @@ struct AnalyzeArgs {
     std::string blurSearch = "auto";
     bool blurSearchGiven = false;  // --blur-search on the command line (not its default)
     std::string transfer = "linear";
+    unsigned jobs = defaultJobs();
+    bool quiet = false;
 };
 
 // What --blur-search asks of AnalysisOptions: the regions searched afresh a frame (0: all), the
@@ -99,6 +104,12 @@ int runAnalyze(const AnalyzeArgs& args) {
     uint64_t written = 0, damaged = 0;
     std::streamoff complete = 0;  // bytes of the frames written whole
     bool warnedSharpened = false;
+    ProgressLine progress(cmd, args.quiet);
+    // Results on the same terminal as the line: erase it before each, the next update redraws.
+    const bool stdoutTerminal = !toFile && isatty(STDOUT_FILENO) == 1;
+    StreamOptions stream;
+    stream.jobs = args.jobs;
+    stream.progress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
     const Status st = analyzeSource(
         args.source, options, args.frames,
         [&](const FrameAnalysis& a) -> Status {
@@ -118,6 +129,7 @@ int runAnalyze(const AnalyzeArgs& args) {
                                                         "'; check the folder exists and is "
                                                         "writable");
             }
+            if (stdoutTerminal) progress.clear();
             errno = 0;
             out << bytes;
             out.flush();  // a frame measured is a frame kept
@@ -144,11 +156,16 @@ int runAnalyze(const AnalyzeArgs& args) {
         },
         [&](const Error& e) {
             ++damaged;
+            progress.clear();
             std::cerr << "infocus analyze: skipped a damaged frame: " << e.message << "\n";
         },
         [&](const SourceInfo& info, const AnalysisOptions& used) {
+            // A camera has no end to count towards, and its frames pace themselves.
+            if (info.liveCamera) progress.disable();
             noteTransfer(cmd, info, used);
-        });
+        },
+        stream);
+    progress.clear();
     if (!st) {
         if (written)
             std::cerr << "infocus analyze: " << written << " frame(s) written before the error\n";
@@ -198,6 +215,13 @@ Command addAnalyzeCommand(CLI::App& app) {
                     "light): linear, srgb (JPEG files, most webcams), rec709 (HD video), or "
                     "auto: the curve the camera's format, the recording or the file names")
         ->capture_default_str();
+    sub->add_option("--jobs", args->jobs,
+                    "Frames of a file or recording measured at once (output as with 1, in "
+                    "order); cameras and --blur-search N run one at a time")
+        ->check(CLI::Range(1u, 256u))
+        ->default_str("the machine's cores");
+    sub->add_flag("--quiet", args->quiet,
+                  "No progress line on stderr (it is shown only when stderr is a terminal)");
     sub->add_flag(
         "--centre-weighted", args->centreWeighted,
         "frame_sharpness weights regions near the centre more (Gaussian, σ = diagonal/4)");

@@ -13,6 +13,7 @@
 #include "infocus/devices.h"
 #include "infocus/recording.h"
 #include "infocus/source.h"
+#include "progress.h"
 
 namespace infocus::cli {
 
@@ -23,6 +24,7 @@ struct RecordArgs {
     std::string output;
     std::optional<int64_t> frames;
     std::optional<double> seconds;
+    bool quiet = false;
 };
 
 // Set by SIGINT/SIGTERM: finish the current frame, then close the recording cleanly.
@@ -77,6 +79,11 @@ int runRecord(const RecordArgs& args) {
 
     if (auto s = src.start(); !s) return reportError(cmd, s.error());
     const auto t0 = std::chrono::steady_clock::now();
+    // Files and sim: have a count to show; a camera's frames arrive at its own pace.
+    ProgressLine progress(cmd, args.quiet || info.liveCamera);
+    uint64_t total = info.frameCount ? static_cast<uint64_t>(*info.frameCount) : 0;
+    if (args.frames && (total == 0 || static_cast<uint64_t>(*args.frames) < total))
+        total = static_cast<uint64_t>(*args.frames);
     std::optional<Error> failure;
     bool interrupted = false;
     while (true) {
@@ -93,6 +100,7 @@ int runRecord(const RecordArgs& args) {
         if (!frame) {
             if (frame.error().kind == ErrorKind::EndOfStream) break;
             // A damaged frame of a file source is reported and skipped; anything else ends.
+            progress.clear();
             std::fprintf(stderr, "infocus record: %s\n", frame.error().message.c_str());
             if (frame.error().kind == ErrorKind::Corrupt) {
                 failure = frame.error();
@@ -103,10 +111,13 @@ int runRecord(const RecordArgs& args) {
         }
         if (auto s = (*writer)->append(*frame); !s) {
             failure = s.error();
+            progress.clear();
             std::fprintf(stderr, "infocus record: %s\n", s.error().message.c_str());
             break;
         }
+        progress.update((*writer)->frames(), total);
     }
+    progress.clear();
     src.stop();
     const Status closed = (*writer)->close();
     const double elapsed =
@@ -140,6 +151,9 @@ Command addRecordCommand(CLI::App& app) {
     auto* seconds = sub->add_option("--seconds", args->seconds, "Stop after S seconds")
                         ->check(secondsIn(0.0, HUGE_VAL, "10"));
     frames->excludes(seconds);
+    sub->add_flag("--quiet", args->quiet,
+                  "No progress line on stderr (shown for files and sim: when stderr is a "
+                  "terminal)");
     sub->footer(
         "Without --frames or --seconds, records until the source ends or Ctrl-C. Ctrl-C and "
         "SIGTERM stop after the current frame and close the recording cleanly.");

@@ -13,6 +13,7 @@
 #include "infocus/report.h"
 #include "lens_options.h"
 #include "parse.h"
+#include "progress.h"
 
 namespace infocus::cli {
 
@@ -29,6 +30,8 @@ struct ReportArgs {
     uint64_t frames = 1;
     std::string transfer = "linear";
     DepthMapOptions depth;
+    unsigned jobs = defaultJobs();
+    bool quiet = false;
 };
 
 // The report's optics from the lens options: what is missing stays empty (the report then says
@@ -108,15 +111,22 @@ int runReport(const ReportArgs& args) {
         if (!luma) return luma.error();
         return writer.add(a, *luma);
     };
+    ProgressLine progress(kName, args.quiet);
     const auto onDamaged = [&](const Error& e) {
         ++damaged;
+        progress.clear();
         std::cerr << "infocus report: skipped a damaged frame: " << e.message << "\n";
     };
     const auto onStart = [&](const SourceInfo& info, const AnalysisOptions& used) {
+        if (info.liveCamera) progress.disable();
         noteTransfer(kName, info, used);
     };
+    StreamOptions stream;
+    stream.jobs = args.jobs;
+    stream.progress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
     const Status st =
-        analyzeSourceFrames(args.source, options, args.frames, sink, onDamaged, onStart);
+        analyzeSourceFrames(args.source, options, args.frames, sink, onDamaged, onStart, stream);
+    progress.clear();
     if (!st && writer.frames() == 0) return reportError(kName, st.error());
     if (writer.frames() == 0)
         return reportError(
@@ -156,6 +166,13 @@ Command addReportCommand(CLI::App& app) {
                     "How grey levels encode light: linear, srgb, rec709 or auto (the source's own)")
         ->capture_default_str();
     addDepthMapOptions(sub, args->depth);
+    sub->add_option("--jobs", args->jobs,
+                    "Frames of a file or recording measured at once (the report is the same as "
+                    "with 1); cameras run one at a time")
+        ->check(CLI::Range(1u, 256u))
+        ->default_str("the machine's cores");
+    sub->add_flag("--quiet", args->quiet,
+                  "No progress line on stderr (it is shown only when stderr is a terminal)");
     sub->add_option("--title", args->title, "The report's title");
     sub->footer(
         "The report embeds each frame with its regions tinted by blur, the blur and\n"

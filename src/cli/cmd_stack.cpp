@@ -9,10 +9,12 @@
 #include <string>
 
 #include "commands.h"
+#include "infocus/pipeline.h"
 #include "infocus/report.h"
 #include "infocus/stack.h"
 #include "infocus/stack_output.h"
 #include "parse.h"
+#include "progress.h"
 
 namespace infocus::cli {
 
@@ -27,8 +29,9 @@ struct StackArgs {
     std::string metric;
     std::string output;
     int step = 16;
-    int threads = 2;
+    int threads = static_cast<int>(defaultJobs());
     bool json = false;
+    bool quiet = false;
 };
 
 // Checks that @p dir is, or can be made, a directory this process writes in, before minutes of
@@ -93,7 +96,11 @@ int runStackCommand(const StackArgs& args) {
     }
     if (!args.output.empty())
         if (auto s = prepareOutput(args.output); !s) return reportError(cmd, s.error());
+    // Measuring is the long part (the frames are read first, the maps are quick).
+    ProgressLine progress(cmd, args.quiet);
+    options.progress = [&](uint64_t done, uint64_t total) { progress.update(done, total); };
     auto r = analyzeStack(args.source, options);
+    progress.clear();
     if (!r) return reportError(cmd, r.error());
     if (args.json)
         std::cout << stackJson(*r) << '\n';
@@ -135,9 +142,11 @@ Command addStackCommand(CLI::App& app) {
     sub->add_option("--step", args->step, "Step of the dense focus map, pixels")
         ->check(CLI::Range(2, 1024))
         ->capture_default_str();
-    sub->add_option("--threads", args->threads, "Frames measured at once")
+    sub->add_option("--jobs,--threads", args->threads, "Frames measured at once")
         ->check(CLI::Range(1, 64))
-        ->capture_default_str();
+        ->default_str("the machine's cores");
+    sub->add_flag("--quiet", args->quiet,
+                  "No progress line on stderr (it is shown only when stderr is a terminal)");
     sub->add_option("-o,--output", args->output,
                     "Directory for stack.json, focus_map.png (16-bit), focus_map_colour.png, "
                     "composite.png and report.html");

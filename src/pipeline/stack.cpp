@@ -384,11 +384,18 @@ Result<std::vector<Measured>> measureStack(std::vector<Frame>& frames, const Ana
     std::atomic<size_t> next{0};
     std::mutex failMutex;
     std::optional<Error> failure;
+    std::mutex progressMutex;
+    uint64_t done = 0;
     const auto work = [&] {
         auto analyzer = Analyzer::create(ao);
         Status st = analyzer ? Status{} : Status(analyzer.error());
-        for (size_t i; st && (i = next++) < n;)
+        for (size_t i; st && (i = next++) < n;) {
             st = measureStackFrame(**analyzer, frames[i], i, options, sp, windows, r, measured[i]);
+            if (st && options.progress) {
+                std::lock_guard lock(progressMutex);
+                options.progress(++done, n);
+            }
+        }
         if (st) return;
         std::lock_guard lock(failMutex);
         if (!failure) failure = st.error();
