@@ -9,8 +9,8 @@
 
 #include "commands.h"
 #include "infocus/analysis.h"
-#include "infocus/depth_map.h"
 #include "infocus/analysis_output.h"
+#include "infocus/depth_map.h"
 #include "infocus/depth_output.h"
 #include "infocus/pipeline.h"
 #include "infocus/plane_fit.h"

@@ -11,8 +11,8 @@
 #include <string>
 
 #include "commands.h"
-#include "infocus/sweep.h"
 #include "infocus/analysis_output.h"
+#include "infocus/sweep.h"
 #include "infocus/sweep_output.h"
 #include "lens_options.h"
 #include "parse.h"

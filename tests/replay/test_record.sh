@@ -137,13 +137,14 @@ check "the cut recording replays with exit 0 ($st: $out)" test $st -eq 0
 check "the cut recording replays its 2 frames ($out)" grep -q "recorded 2 frames" <<<"$out"
 
 # 7. Two recorders on one new directory: one wins and its header names its own source, the
-# other says another recording is being written there.
+# other says another recording is being written there. Each records half a second, so that the
+# second still finds the first writing when its start (loading the simulated camera) is slower.
 race_ok=0
 for t in $(seq 1 20); do
 	d="$work/race$t"
-	"$bin" record sim:size=32x24,fps=50,seed=1 -o "$d" --frames 5 >"$d.1" 2>&1 &
+	"$bin" record sim:size=32x24,fps=50,seed=1 -o "$d" --frames 25 >"$d.1" 2>&1 &
 	p1=$!
-	"$bin" record sim:size=32x24,fps=50,seed=2 -o "$d" --frames 5 >"$d.2" 2>&1 &
+	"$bin" record sim:size=32x24,fps=50,seed=2 -o "$d" --frames 25 >"$d.2" 2>&1 &
 	p2=$!
 	wait $p1
 	s1=$?
