@@ -10,6 +10,9 @@ pkgs=(meson ninja-build pkg-config g++ clang-format
 	chromium chromium-driver python3-selenium
 	libsdl2-dev libimgui-dev xvfb x11-apps imagemagick
 	clang libclang-rt-dev) # clang: the fuzzers (scripts/fuzz.sh) and --sanitize=clang
+pkgs+=(libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev)  # build: the focusmeter element (src/gstreamer)
+pkgs+=(gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good)  # running focusmeter (gst-launch-1.0, videotestsrc, jpegdec, v4l2src) and its tests
+pkgs+=(python3-gi gir1.2-gstreamer-1.0 gir1.2-gst-plugins-base-1.0)  # tests only: focusmeter's bus read from Python
 if [[ "${1:-}" == "--vm" ]]; then
 	pkgs+=(qemu-system-x86 linux-image-amd64 busybox-static v4l-utils cpio
 		linux-source-6.1 libcamera-ipa libcamera-tools udev xz-utils make bc
