@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "focus_worker.h"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -68,6 +71,10 @@ uint64_t FocusWorker::skipped() const {
 }
 
 void FocusWorker::run() {
+    // Below every other thread: the analysis takes only CPU time nothing else wants, so that it
+    // never delays the stream. The blur threads the analyser starts from here inherit it.
+    sched_param param{};
+    pthread_setschedparam(pthread_self(), SCHED_IDLE, &param);
     Slot work;
     for (;;) {
         {

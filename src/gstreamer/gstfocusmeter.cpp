@@ -4,6 +4,7 @@
 #include <gst/video/gstvideometa.h>
 #include <gst/video/video.h>
 
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -37,6 +38,8 @@ constexpr int kMaxBlurSearch = 65536;
 constexpr double kMaxFocalLengthMm = 10000.0;
 constexpr double kMaxFNumber = 1024.0;
 constexpr double kMaxPixelPitchUm = 1000.0;
+// As level's: people read ten messages a second; interval=0 asks for every frame.
+constexpr guint64 kDefaultIntervalNs = GST_SECOND / 10;
 
 // Every format whose luma the library reads; the caps string and the names in messages.
 #define FOCUSMETER_FORMATS "{ GRAY8, GRAY16_LE, I420, NV12, YUY2, UYVY, RGB, BGR, RGBx, BGRx }"
@@ -199,9 +202,10 @@ struct State {
     int blurSearch = kDefaultBlurSearch;
     TransferFunction transfer = TransferFunction::Linear;
     double focalLengthMm = 0.0, fNumber = 0.0, pixelPitchUm = 0.0, focusDistanceM = 0.0;
-    guint64 interval = 0;
-    bool postMessages = true;
-    bool attachMeta = false;
+    guint64 interval = kDefaultIntervalNs;
+    // Read by the analysis thread, which takes no lock the streaming thread waits for.
+    std::atomic<bool> postMessages = true;
+    std::atomic<bool> attachMeta = false;
     bool skipFrames = true;
     std::shared_ptr<const MeterSettings> settings;  // rebuilt when a property changes
 
@@ -327,10 +331,8 @@ GstStructure* readingStructure(const FocusReading& r) {
 // Called on the analysis thread.
 void publish(GstFocusMeter* self, const FocusReading& r) {
     State& s = *self->s;
-    GST_OBJECT_LOCK(self);
     const bool post = s.postMessages;
     const bool meta = s.attachMeta;
-    GST_OBJECT_UNLOCK(self);
     if (meta) {
         auto copy = std::make_shared<FocusReading>(r);
         std::lock_guard lock(s.readingMutex);
@@ -818,7 +820,7 @@ static void gst_focus_meter_class_init(GstFocusMeterClass* klass) {
         g_param_spec_uint64("interval", "Interval",
                             "Least time between analysed frames in ns, by their timestamps (0: "
                             "every frame)",
-                            0, G_MAXUINT64, 0, flags));
+                            0, G_MAXUINT64, kDefaultIntervalNs, flags));
     g_object_class_install_property(
         gobject, PROP_POST_MESSAGES,
         g_param_spec_boolean("post-messages", "Post messages",

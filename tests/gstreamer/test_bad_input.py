@@ -49,7 +49,7 @@ def texture(w, h, stride):
     return out
 
 
-def run(caps, buffers, props="grid=4x3 skip-frames=false"):
+def run(caps, buffers, props="grid=4x3 interval=0 skip-frames=false"):
     """Pushes @buffers through appsrc ! focusmeter ! fakesink; returns (messages, warnings, errors)
     as lists of structures and texts, having waited for EOS or an error."""
     p = Gst.parse_launch(f'appsrc name=src caps="{caps}" format=time ! focusmeter name=m {props} '

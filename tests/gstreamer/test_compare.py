@@ -87,7 +87,7 @@ first = int(files[0][4:7])
 msgs = read_messages(
     f'multifilesrc location="{stack}/pcb_%03d.jpg" start-index={first} '
     f"stop-index={first + len(files) - 1} caps=image/jpeg,framerate=1/1 ! jpegdec idct-method=islow ! "
-    f"focusmeter grid={GRID[0]}x{GRID[1]} blur-search=0 skip-frames=false ! fakesink")
+    f"focusmeter grid={GRID[0]}x{GRID[1]} blur-search=0 interval=0 skip-frames=false ! fakesink")
 assert len(msgs) == len(files), f"{len(msgs)} messages for {len(files)} files"
 
 compared = 0

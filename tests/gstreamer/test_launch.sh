@@ -35,7 +35,7 @@ expect=(
     'f-number|Double. Range: 0 - 1024 Default: 0'
     'pixel-pitch|Double. Range: 0 - 1000 Default: 0'
     'focus-distance|Double. Range: 0 - inf Default: 0'
-    'interval|Unsigned Integer64. Range: 0 - 18446744073709551615 Default: 0'
+    'interval|Unsigned Integer64. Range: 0 - 18446744073709551615 Default: 100000000'
     'post-messages|Boolean.*Default: true'
     'attach-meta|Boolean.*Default: false'
     'skip-frames|Boolean.*Default: true'
@@ -59,7 +59,7 @@ for t in linear srgb rec709; do
 done
 
 # ---- gst-launch-1.0 -m: one message per frame, frames 0..59 in order, the fields present
-gst-launch-1.0 -m videotestsrc num-buffers=60 ! focusmeter skip-frames=false ! fakesink \
+gst-launch-1.0 -m videotestsrc num-buffers=60 ! focusmeter interval=0 skip-frames=false ! fakesink \
     >"$tmp/launch" 2>&1 || bad "gst-launch-1.0 failed: $(tail -5 "$tmp/launch")"
 n=$(grep -c 'element): infocus, ' "$tmp/launch")
 [[ $n -eq 60 ]] || bad "skip-frames=false posted $n messages for 60 frames"
@@ -82,7 +82,7 @@ grep -q 'Got EOS from element' "$tmp/launch" || bad "no EOS"
 # The default rule: a stream faster than the analysis is skipped, never queued. Every frame is
 # either analysed or counted as skipped, and the last one is analysed.
 gst-launch-1.0 -m videotestsrc num-buffers=60 ! video/x-raw,width=1280,height=720 ! \
-    focusmeter blur-search=0 ! fakesink >"$tmp/skip" 2>&1 || bad "skipping run failed"
+    focusmeter interval=0 blur-search=0 ! fakesink >"$tmp/skip" 2>&1 || bad "skipping run failed"
 n=$(grep -c 'element): infocus, ' "$tmp/skip")
 last=$(grep 'element): infocus, ' "$tmp/skip" | tail -1)
 skipped=$(grep -o ' skipped=(guint64)[0-9]*' <<<"$last" | grep -o '[0-9]*$')
@@ -91,8 +91,8 @@ echo "default rule: $n analysed, ${skipped:-?} skipped of 60"
 [[ $((n + ${skipped:-1000})) -eq 60 ]] || bad "analysed $n + skipped $skipped != 60"
 [[ ${lastframe:-} == 59 ]] || bad "last analysed frame is ${lastframe:-none}, not 59"
 
-# interval: at 30 fps, 100 ms keeps every 3rd frame (by timestamps), none skipped
-gst-launch-1.0 -m videotestsrc num-buffers=30 ! focusmeter skip-frames=false interval=100000000 ! \
+# interval, 100 ms by default: at 30 fps every 3rd frame (by timestamps), none skipped
+gst-launch-1.0 -m videotestsrc num-buffers=30 ! focusmeter skip-frames=false ! \
     fakesink >"$tmp/interval" 2>&1 || bad "interval run failed"
 frames=$(grep -o 'element): infocus, .*' "$tmp/interval" | grep -o ' frame=(guint64)[0-9]*' |
     grep -o '[0-9]*$' | tr '\n' ' ')
@@ -104,7 +104,7 @@ gst-launch-1.0 -m videotestsrc num-buffers=10 ! focusmeter post-messages=false !
 [[ $(grep -c 'element): infocus, ' "$tmp/quiet") -eq 0 ]] || bad "post-messages=false posted"
 
 # Out-of-range values: refused with a warning naming them, the default kept.
-gst-launch-1.0 -m videotestsrc num-buffers=2 ! focusmeter grid=0x3 blur-search=70000 \
+gst-launch-1.0 -m videotestsrc num-buffers=2 ! focusmeter interval=0 grid=0x3 blur-search=70000 \
     f-number=-2 ! fakesink >"$tmp/range" 2>&1 || bad "out-of-range run failed"
 grep -q "grid '0x3' refused" "$tmp/range" || bad "grid=0x3 not refused: $(cat "$tmp/range")"
 grep -q "blur-search" "$tmp/range" || bad "blur-search=70000 not warned"
