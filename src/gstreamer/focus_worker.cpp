@@ -71,10 +71,6 @@ uint64_t FocusWorker::skipped() const {
 }
 
 void FocusWorker::run() {
-    // Below every other thread: the analysis takes only CPU time nothing else wants, so that it
-    // never delays the stream. The blur threads the analyser starts from here inherit it.
-    sched_param param{};
-    pthread_setschedparam(pthread_self(), SCHED_IDLE, &param);
     Slot work;
     for (;;) {
         {
@@ -90,20 +86,33 @@ void FocusWorker::run() {
             resetPeak_ = false;
         }
         changed_.notify_all();  // an offer waiting for the mailbox may go on
-        analyse(work.pixels, work.layout, work.frame, work.times, work.settings);
+        // The measurement takes only CPU time nothing else wants (SCHED_IDLE, inherited by the
+        // blur threads the analyser starts), so that it never delays the stream. Locks are
+        // taken only outside it, at the normal policy: a starved thread holding one would
+        // stall the streaming thread waiting for it.
+        setIdle(true);
+        auto r = analyse(work.pixels, work.layout, work.frame, work.times, work.settings);
+        setIdle(false);
+        if (!r) {
+            fail_(r.error());
+            continue;
+        }
+        r->skipped = skipped();
+        publish_(*r);
     }
 }
 
-void FocusWorker::analyse(std::vector<uint8_t>& pixels, const LumaSource& layout, uint64_t frame,
-                          const FrameTimes& times,
-                          const std::shared_ptr<const MeterSettings>& settings) {
-    if (!settings) return;
+void FocusWorker::setIdle(bool idle) {
+    sched_param param{};
+    pthread_setschedparam(pthread_self(), idle ? SCHED_IDLE : SCHED_OTHER, &param);
+}
+
+Result<FocusReading> FocusWorker::analyse(std::vector<uint8_t>& pixels, const LumaSource& layout,
+                                          uint64_t frame, const FrameTimes& times,
+                                          const std::shared_ptr<const MeterSettings>& settings) {
     if (settings != analyzerSettings_) {
         auto made = Analyzer::create(settings->analysis);
-        if (!made) {
-            fail_(made.error());
-            return;
-        }
+        if (!made) return made.error();
         analyzer_ = std::move(*made);
         analyzerSettings_ = settings;
         peak_ = 0.0;  // another grid or operator: the old peak is not comparable
@@ -118,15 +127,11 @@ void FocusWorker::analyse(std::vector<uint8_t>& pixels, const LumaSource& layout
     f.sequence = frame;
     f.timestampNs = times.timestampNs >= 0 ? times.timestampNs : 0;
     auto a = analyzer_->analyze(f, frame);
-    if (!a) {
-        fail_(a.error());
-        return;
-    }
+    if (!a) return a.error();
 
     FocusReading r;
     r.times = times;
     r.frame = frame;
-    r.skipped = skipped();
     const auto& opts = settings->analysis;
     r.cols = opts.rois.empty() ? opts.cols : static_cast<int>(opts.rois.size());
     r.rows = opts.rois.empty() ? opts.rows : 1;
@@ -156,7 +161,7 @@ void FocusWorker::analyse(std::vector<uint8_t>& pixels, const LumaSource& layout
         }
     }
     r.analysis = std::move(*a);
-    publish_(r);
+    return r;
 }
 
 }  // namespace infocus::gst

@@ -93,8 +93,12 @@ public:
 
 private:
     void run();
-    void analyse(std::vector<uint8_t>& pixels, const LumaSource& layout, uint64_t frame,
-                 const FrameTimes& times, const std::shared_ptr<const MeterSettings>& settings);
+    // Measures one frame (no lock taken: it runs at SCHED_IDLE).
+    Result<FocusReading> analyse(std::vector<uint8_t>& pixels, const LumaSource& layout,
+                                 uint64_t frame, const FrameTimes& times,
+                                 const std::shared_ptr<const MeterSettings>& settings);
+    // Puts the calling thread at SCHED_IDLE, or back at SCHED_OTHER.
+    static void setIdle(bool idle);
 
     struct Slot {
         std::vector<uint8_t> pixels;
