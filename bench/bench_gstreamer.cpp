@@ -28,14 +28,14 @@ constexpr int kFps = 60;
 // default max-lateness.
 constexpr int64_t kMaxLatenessNs = 20'000'000;
 
+#if HAVE_GSTREAMER
+
 double cpuSeconds() {
     rusage ru{};
     getrusage(RUSAGE_SELF, &ru);
     return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
            1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
 }
-
-#if HAVE_GSTREAMER
 
 struct PipelineRun {
     LiveRun run;            // frames: analysed (focusmeter) or rendered (identity)
@@ -142,11 +142,7 @@ bool findFocusmeter() {
 
 }  // namespace
 
-void benchGstreamer(const BenchOptions& options, const RowSink& sink) {
-    const double seconds = std::min(options.liveSeconds, kMaxSeconds);
-    const int frames = std::max(1, static_cast<int>(std::lround(seconds * kFps)));
-    // focusmeter as it comes (interval 100 ms), then asked for every frame.
-    constexpr int64_t kIntervals[] = {100'000'000, 0};
+void benchGstreamer([[maybe_unused]] const BenchOptions& options, const RowSink& sink) {
     for (const char* format : {"GRAY8", "I420"}) {
         BenchRow row;
         row.what = "gstreamer";
@@ -156,6 +152,10 @@ void benchGstreamer(const BenchOptions& options, const RowSink& sink) {
         row.nominalFps = kFps;
         row.baseline = "identity";
 #if HAVE_GSTREAMER
+        const double seconds = std::min(options.liveSeconds, kMaxSeconds);
+        const int frames = std::max(1, static_cast<int>(std::lround(seconds * kFps)));
+        // focusmeter as it comes (interval 100 ms), then asked for every frame.
+        constexpr int64_t kIntervals[] = {100'000'000, 0};
         static const bool ready = [] {
             gst_init(nullptr, nullptr);
             return findFocusmeter();
