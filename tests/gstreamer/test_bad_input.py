@@ -3,7 +3,8 @@
 an odd stride given by a video meta (measured as the same pixels at the plain stride), a stride
 shorter than a line, caps it cannot read (the error names them), a grid larger than the frame
 (an error at caps time), and property values out of range (refused, the old value kept). Nothing
-crashes, and the stream goes on after every bad buffer.
+crashes, and the stream goes on after every bad buffer. Also attach-meta: one region meta per
+cell carrying its frame's numbers.
 
 Usage: test_bad_input.py PLUGIN_DIR. Skips (77) without python3-gi and the GStreamer
 introspection data (gir1.2-gstreamer-1.0, gir1.2-gst-plugins-base-1.0)."""
@@ -143,6 +144,43 @@ check(errs and "grid 16x9" in errs[0] and "8x8" in errs[0], f"grid > frame: erro
 msgs, warns, errs = run("video/x-raw,format=GRAY8,width=8,height=8,framerate=30/1",
                         [Gst.Buffer.new_wrapped(bytes(64))], "roi=4,4,8,2")
 check(errs and "roi 4,4,8,2" in errs[0], f"roi outside: errors {errs}")
+
+# attach-meta with skip-frames=false: each buffer carries one region meta per grid cell, placed
+# as the grid, whose parameters are its own frame's message's numbers.
+p = Gst.parse_launch("videotestsrc num-buffers=3 ! video/x-raw,width=320,height=240 ! "
+                     "focusmeter grid=2x2 interval=0 skip-frames=false attach-meta=true ! "
+                     "fakesink name=s")
+metas = []
+
+
+def probe(pad, info):
+    buf = info.get_buffer()
+    for i in range(4):
+        m = GstVideo.buffer_get_video_region_of_interest_meta_id(buf, i)
+        s = m.get_param("infocus") if m else None
+        metas.append((m.x, m.y, m.w, m.h, s.get_value("frame"), s.get_value("sharpness"))
+                     if s else None)
+    return Gst.PadProbeReturn.OK
+
+
+p.get_by_name("s").get_static_pad("sink").add_probe(Gst.PadProbeType.BUFFER, probe)
+p.set_state(Gst.State.PLAYING)
+bus = p.get_bus()
+scores = []
+while True:
+    m = bus.timed_pop_filtered(30 * Gst.SECOND, Gst.MessageType.ANY)
+    if m is None or m.type in (Gst.MessageType.EOS, Gst.MessageType.ERROR):
+        break
+    if m.type == Gst.MessageType.ELEMENT and m.get_structure().get_name() == "infocus":
+        scores.append(list(m.get_structure().get_value("sharpness")))
+p.set_state(Gst.State.NULL)
+check(len(metas) == 12 and None not in metas, f"attach-meta: metas {metas}")
+if len(metas) == 12 and None not in metas and len(scores) == 3:
+    for k, (x, y, w, h, frame, sharp) in enumerate(metas):
+        f, i = divmod(k, 4)
+        check((x, y, w, h) == (160 * (i % 2), 120 * (i // 2), 160, 120), f"meta {k} at {x},{y}")
+        same = sharp == scores[f][i] or (math.isnan(sharp) and math.isnan(scores[f][i]))
+        check(frame == f and same, f"meta {k}: frame {frame}, {sharp}")
 
 # Out-of-range values: refused, the old value kept.
 m = Gst.ElementFactory.make("focusmeter", None)
