@@ -18,6 +18,7 @@ void runAll(const BenchOptions& options, const RowSink& sink) {
     if (wanted("jobs")) benchJobs(options, sink);
     if (wanted("python")) benchPython(options, sink);
     if (wanted("live") && options.liveSeconds > 0) benchLive(options, sink);
+    if (wanted("gstreamer") && options.liveSeconds > 0) benchGstreamer(options, sink);
 }
 
 double medianMs(const std::function<void()>& fn, double budgetS) {

@@ -42,6 +42,7 @@ struct BenchRow {
     std::optional<double> nominalFps = {};     ///< the recording's frame rate
     std::optional<LiveRun> live = {};          ///< infocus's measurement
     std::optional<LiveRun> liveBaseline = {};  ///< the baseline's, through the same pipeline
+    std::optional<int64_t> intervalNs = {};    ///< `gstreamer` rows: focusmeter's interval, ns
 };
 
 /// Options shared by all benchmarks.
@@ -55,7 +56,7 @@ struct BenchOptions {
 /// The families of rows BenchOptions::only chooses from.
 inline const std::vector<std::string>& benchFamilies() {
     static const std::vector<std::string> families{"sharpness", "mjpeg",  "blur", "stack",
-                                                   "jobs",      "python", "live"};
+                                                   "jobs",      "python", "live", "gstreamer"};
     return families;
 }
 
@@ -95,6 +96,11 @@ void benchPython(const BenchOptions& options, const RowSink& sink);
 void benchLive(const BenchOptions& options, const RowSink& sink);
 /// What the live rows' baseline is.
 std::string liveBaselineName();
+/// The focusmeter element in a GStreamer pipeline: a live 1080p60 videotestsrc (GRAY8, then
+/// I420) at its real rate into a synchronised fakesink for options.liveSeconds (at most 10 s),
+/// through focusmeter and through identity (the baseline) in this process; `live` holds frames
+/// analysed and process CPU cores, `dropped` the buffers late at the sink.
+void benchGstreamer(const BenchOptions& options, const RowSink& sink);
 
 /// The blur grid (16×9) on each of @p images (8-bit luma, the frames of the source @p input)
 /// scaled to 1920×1080: a row `blur_image` for each, searched from scratch beside the scalar

@@ -21,6 +21,12 @@ test_pkgs=(clang-format tmux
 pkgs+=(pybind11-dev python3-dev python3-numpy)
 # Tests only: the Python module's suite, and OpenCV from Python for the bench's python baseline.
 test_pkgs+=(python3-pytest python3-opencv)
+# The focusmeter element (src/gstreamer): GStreamer's headers to build it, its tools and base and
+# good plugins to run it (gst-launch-1.0, videotestsrc, jpegdec, v4l2src).
+pkgs+=(libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev
+	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good)
+# Tests only: focusmeter's bus read from Python.
+test_pkgs+=(python3-gi gir1.2-gstreamer-1.0 gir1.2-gst-plugins-base-1.0)
 for arg in "$@"; do
 	case $arg in
 	--test) pkgs+=("${test_pkgs[@]}") ;;

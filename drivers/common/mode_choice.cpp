@@ -94,6 +94,8 @@ int lumaCost(PixelFormat format) {
             return 2;
         case PixelFormat::RGB24:
         case PixelFormat::BGR24:
+        case PixelFormat::RGBX:
+        case PixelFormat::BGRX:
             return 3;
         case PixelFormat::SRGGB8:
         case PixelFormat::SGRBG8:

@@ -36,6 +36,8 @@ enum class PixelFormat : uint32_t {
     Y16 = fourcc('Y', '1', '6', ' '),     ///< 16-bit little-endian luma
     RGB24 = fourcc('R', 'G', 'B', '3'),   ///< packed R G B
     BGR24 = fourcc('B', 'G', 'R', '3'),   ///< packed B G R
+    RGBX = fourcc('X', 'B', '2', '4'),    ///< packed R G B, one unused byte (V4L2 RGBX32)
+    BGRX = fourcc('X', 'R', '2', '4'),    ///< packed B G R, one unused byte (V4L2 XBGR32)
     MJPEG = fourcc('M', 'J', 'P', 'G'),   ///< motion JPEG, one JPEG image per frame
     SRGGB8 = fourcc('R', 'G', 'G', 'B'),  ///< 8-bit Bayer, RG/GB
     SGRBG8 = fourcc('G', 'R', 'B', 'G'),  ///< 8-bit Bayer, GR/BG

@@ -15,10 +15,10 @@ namespace infocus {
 /// converter per thread.
 ///
 /// Per format: GREY, NV12, NV21 and YU12 return a view into the frame (zero copy); YUYV and UYVY
-/// take the Y bytes; RGB24/BGR24 use BT.601 weights (0.299 R + 0.587 G + 0.114 B, rounded);
-/// Y10/Y16 are rescaled; MJPEG decodes the luma component only (chroma is never converted);
-/// 8-bit Bayer keeps the green samples and fills red/blue sites with the mean of their four green
-/// neighbours, so the result stays full resolution.
+/// take the Y bytes; RGB24/BGR24 and RGBX/BGRX use BT.601 weights (0.299 R + 0.587 G + 0.114 B,
+/// rounded); Y10/Y16 are rescaled; MJPEG decodes the luma component only (chroma is never
+/// converted); 8-bit Bayer keeps the green samples and fills red/blue sites with the mean of their
+/// four green neighbours, so the result stays full resolution.
 class LumaConverter {
 public:
     LumaConverter();

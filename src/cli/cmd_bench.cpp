@@ -315,6 +315,82 @@ void printLive(const bench::BenchRow& row, bool& headerShown) {
     std::fflush(stdout);
 }
 
+// Most process CPU the focusmeter element may add to a pipeline at 1080p60, in cores.
+constexpr double kGstreamerAddedCores = 0.15;
+
+// A gstreamer row's targets: the element adds at most kGstreamerAddedCores, and no buffer is
+// later at the sink than through identity.
+std::vector<std::pair<std::string, bool>> gstreamerTargets(const bench::BenchRow& row) {
+    const bench::LiveRun& m = *row.live;
+    const bench::LiveRun& b = *row.liveBaseline;
+    char text[48];
+    std::snprintf(text, sizeof text, "<= %.2f core added", kGstreamerAddedCores);
+    return {{text, m.cpuCores - b.cpuCores <= kGstreamerAddedCores},
+            {"no more late than identity", m.dropped <= b.dropped}};
+}
+
+nlohmann::ordered_json gstreamerJson(const bench::BenchRow& row) {
+    nlohmann::ordered_json j;
+    j["what"] = row.what;
+    j["width"] = row.width;
+    j["height"] = row.height;
+    j["format"] = row.format;
+    if (row.nominalFps) j["nominal_fps"] = *row.nominalFps;
+    if (row.intervalNs) j["interval_ns"] = *row.intervalNs;
+    if (row.live && row.liveBaseline) {
+        j["frames_analysed"] = row.live->frames;
+        j["analysed_fps"] = row.live->fps;
+        j["late"] = row.live->dropped;
+        j["cpu_cores"] = row.live->cpuCores;
+        j["baseline"] = row.baseline;
+        j["baseline_frames"] = row.liveBaseline->frames;
+        j["baseline_late"] = row.liveBaseline->dropped;
+        j["baseline_cpu_cores"] = row.liveBaseline->cpuCores;
+        j["added_cores"] = row.live->cpuCores - row.liveBaseline->cpuCores;
+        nlohmann::ordered_json targets = nlohmann::ordered_json::array();
+        for (const auto& [text, met] : gstreamerTargets(row))
+            targets.push_back({{"target", text}, {"met", met}});
+        j["targets"] = targets;
+    }
+    if (!row.note.empty()) j["note"] = row.note;
+    return j;
+}
+
+// A gstreamer row as text: focusmeter's run and identity's, then the targets.
+void printGstreamer(const bench::BenchRow& row, bool& headerShown) {
+    if (!headerShown) {
+        headerShown = true;
+        std::printf(
+            "\ngstreamer: a live videotestsrc at its rate through focusmeter, beside "
+            "identity\n");
+        std::printf("%-17s %11s %-6s %5s  %-10s %8s %7s %7s %5s %6s %6s  %s\n", "what", "size",
+                    "format", "fps", "element", "interval", "frames", "fps", "late", "cores",
+                    "added", "targets");
+    }
+    char size[32];
+    std::snprintf(size, sizeof size, "%dx%d", row.width, row.height);
+    std::printf("%-17s %11s %-6s %5.0f  ", row.what.c_str(), size, row.format.c_str(),
+                row.nominalFps.value_or(0.0));
+    if (!row.live || !row.liveBaseline) {
+        std::printf("%s\n", row.note.c_str());
+        return;
+    }
+    const bench::LiveRun& m = *row.live;
+    const bench::LiveRun& b = *row.liveBaseline;
+    std::printf("%-10s %6.0fms %7llu %7.2f %5llu %6.2f %6.2f ", "focusmeter",
+                static_cast<double>(row.intervalNs.value_or(0)) / 1e6,
+                static_cast<unsigned long long>(m.frames), m.fps,
+                static_cast<unsigned long long>(m.dropped), m.cpuCores, m.cpuCores - b.cpuCores);
+    const auto targets = gstreamerTargets(row);
+    for (size_t i = 0; i < targets.size(); ++i)
+        std::printf("%s %s %s", i ? "," : "", targets[i].first.c_str(),
+                    targets[i].second ? "ok" : "missed");
+    std::printf("\n%-17s %11s %-6s %5s  %-10s %8s %7llu %7.2f %5llu %6.2f %6s  (%s)\n", "", "", "",
+                "", "identity", "", static_cast<unsigned long long>(b.frames), b.fps,
+                static_cast<unsigned long long>(b.dropped), b.cpuCores, "", row.note.c_str());
+    std::fflush(stdout);
+}
+
 int runBench(const BenchArgs& args) {
     if (args.accuracy && args.imagesGiven)
         return usageError("bench", "--accuracy and --images each choose what to run; give one");
@@ -339,11 +415,19 @@ int runBench(const BenchArgs& args) {
         if (!read) return reportError("bench", read.error());
         frames = std::move(*read);
     }
-    if (!args.json && args.only != "live")
+    if (!args.json && args.only != "live" && args.only != "gstreamer")
         std::printf("%-17s %11s %12s %12s %9s  %s\n", "what", "size", "infocus ms", "baseline ms",
                     "speedup", "baseline");
     bool liveHeader = false;
+    bool gstreamerHeader = false;
     const auto print = [&](const bench::BenchRow& row) {
+        if (row.what == "gstreamer") {
+            if (args.json)
+                std::cout << gstreamerJson(row).dump() << std::endl;
+            else
+                printGstreamer(row, gstreamerHeader);
+            return;
+        }
         if (row.what == "live") {
             if (args.json)
                 std::cout << liveJson(row).dump() << std::endl;

@@ -22,6 +22,7 @@ constexpr FormatName kFormatNames[] = {
     {PixelFormat::YU12, "YU12"},     {PixelFormat::GREY, "GREY"},
     {PixelFormat::Y10, "Y10"},       {PixelFormat::Y16, "Y16"},
     {PixelFormat::RGB24, "RGB24"},   {PixelFormat::BGR24, "BGR24"},
+    {PixelFormat::RGBX, "RGBX"},     {PixelFormat::BGRX, "BGRX"},
     {PixelFormat::MJPEG, "MJPEG"},   {PixelFormat::SRGGB8, "SRGGB8"},
     {PixelFormat::SGRBG8, "SGRBG8"}, {PixelFormat::SGBRG8, "SGBRG8"},
     {PixelFormat::SBGGR8, "SBGGR8"}, {PixelFormat::YU12, "I420"},
@@ -31,6 +32,7 @@ constexpr FormatName kFormatNames[] = {
     {PixelFormat::RGB24, "RGB888"},  {PixelFormat::BGR24, "BGR888"},
     {PixelFormat::YUYV, "YUY2"},     {PixelFormat::SBGGR8, "BA81"},
     {PixelFormat::Y10, "Y10 "},      {PixelFormat::Y16, "Y16 "},
+    {PixelFormat::RGBX, "XB24"},     {PixelFormat::BGRX, "XR24"},
 };
 
 std::string upper(std::string_view s) {
@@ -102,6 +104,10 @@ Result<FrameLayout> frameLayout(PixelFormat format, Size size, size_t stride) {
         case PixelFormat::RGB24:
         case PixelFormat::BGR24:
             minStride = 3 * w;
+            break;
+        case PixelFormat::RGBX:
+        case PixelFormat::BGRX:
+            minStride = 4 * w;
             break;
         case PixelFormat::YUYV:
         case PixelFormat::UYVY:

@@ -190,15 +190,20 @@ Result<Luma8> LumaConverter::toLuma8(const Frame& f) {
             break;
         }
         case PixelFormat::RGB24:
-        case PixelFormat::BGR24: {
+        case PixelFormat::BGR24:
+        case PixelFormat::RGBX:
+        case PixelFormat::BGRX: {
             // BT.601 luma in 8.8 fixed point: 77 R + 150 G + 29 B (sums to 256).
-            const int ri = f.format == PixelFormat::RGB24 ? 0 : 2;
+            const bool rgb = f.format == PixelFormat::RGB24 || f.format == PixelFormat::RGBX;
+            const int ri = rgb ? 0 : 2;
             const int bi = 2 - ri;
+            const int step =
+                f.format == PixelFormat::RGB24 || f.format == PixelFormat::BGR24 ? 3 : 4;
             for (int y = 0; y < h; ++y) {
                 const uint8_t* r = p0.data + y * p0.stride;
                 uint8_t* o = out + static_cast<size_t>(y) * w;
                 for (int x = 0; x < w; ++x) {
-                    const uint8_t* px = r + 3 * x;
+                    const uint8_t* px = r + step * x;
                     o[x] =
                         static_cast<uint8_t>((77 * px[ri] + 150 * px[1] + 29 * px[bi] + 128) >> 8);
                 }

@@ -61,8 +61,9 @@ Frame planarFrame(PixelFormat f, int w, int h, size_t stride) {
 TEST_CASE("pixel format names round-trip and aliases parse", "[frame]") {
     for (auto f : {PixelFormat::YUYV, PixelFormat::UYVY, PixelFormat::NV12, PixelFormat::NV21,
                    PixelFormat::YU12, PixelFormat::GREY, PixelFormat::Y10, PixelFormat::Y16,
-                   PixelFormat::RGB24, PixelFormat::BGR24, PixelFormat::MJPEG, PixelFormat::SRGGB8,
-                   PixelFormat::SGRBG8, PixelFormat::SGBRG8, PixelFormat::SBGGR8}) {
+                   PixelFormat::RGB24, PixelFormat::BGR24, PixelFormat::RGBX, PixelFormat::BGRX,
+                   PixelFormat::MJPEG, PixelFormat::SRGGB8, PixelFormat::SGRBG8,
+                   PixelFormat::SGBRG8, PixelFormat::SBGGR8}) {
         auto p = parsePixelFormat(pixelFormatName(f));
         REQUIRE(p.ok());
         CHECK(*p == f);
@@ -194,6 +195,35 @@ TEST_CASE("RGB24 and BGR24 use BT.601 weights", "[luma]") {
         r0[4] = 255;
         r0[6] = r0[7] = r0[8] = 0;
         r0[6 + (2 - red)] = 255;
+        auto l = toLuma8(fr);
+        REQUIRE(l.ok());
+        CHECK(std::abs(l->at(0, 0) - 0.299 * 255) <= 1.0);
+        CHECK(std::abs(l->at(1, 0) - 0.587 * 255) <= 1.0);
+        CHECK(std::abs(l->at(2, 0) - 0.114 * 255) <= 1.0);
+    }
+}
+
+TEST_CASE("RGBX and BGRX skip their fourth byte and use BT.601 weights", "[luma]") {
+    const int w = 17, h = 3;
+    for (auto f : {PixelFormat::RGBX, PixelFormat::BGRX}) {
+        INFO(pixelFormatName(f));
+        Frame fr = makeFrame(f, w, h, 4 * w + 3);
+        // The unused byte holds 255 everywhere: a reader that took it as a colour would show it.
+        for (int y = 0; y < h; ++y) {
+            uint8_t* r = mutablePlane(fr, 0) + y * fr.planes[0].stride;
+            for (int x = 0; x < w; ++x) {
+                r[4 * x] = r[4 * x + 1] = r[4 * x + 2] = pattern(x, y);
+                r[4 * x + 3] = 255;
+            }
+        }
+        checkLuma8(fr, w, h);  // grey stays grey exactly
+        const int red = f == PixelFormat::RGBX ? 0 : 2;
+        uint8_t* r0 = mutablePlane(fr, 0);
+        for (int x = 0; x < 3; ++x)
+            r0[4 * x] = r0[4 * x + 1] = r0[4 * x + 2] = 0;
+        r0[red] = 255;
+        r0[4 + 1] = 255;
+        r0[8 + (2 - red)] = 255;
         auto l = toLuma8(fr);
         REQUIRE(l.ok());
         CHECK(std::abs(l->at(0, 0) - 0.299 * 255) <= 1.0);

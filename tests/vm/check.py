@@ -3,6 +3,7 @@
 Usage: check.py CONSOLE_LOG [HOST_FRAMES_DIR]  (the host's readings of the loopback frames)
        check.py --host HOST_FRAMES_DIR          (those readings alone)"""
 import json
+import re
 import sys
 
 
@@ -136,6 +137,24 @@ def main():
         part(f"b record+analyze {name}", ok,
              (rec.strip() or text(t, tag + "_rec", "err")[:200]) + f"; analyze rows {len(rows)}")
 
+    # h. the GStreamer element on vivid: messages posted, every frame analysed or counted as
+    # skipped, the last one analysed, EOS reached and exit 0
+    if "h_gst.skip" in t:
+        print("INFO h gstreamer: " + " ".join(t["h_gst.skip"]))
+    else:
+        out = text(t, "h_gst", "out")
+        msgs = [line for line in t.get("h_gst.out", []) if "(element): infocus, " in line]
+        frames = [int(m) for m in re.findall(r" frame=\(guint64\)(\d+)", "\n".join(msgs))]
+        skips = [int(m) for m in re.findall(r" skipped=\(guint64\)(\d+)", "\n".join(msgs))]
+        grid = all(" cols=(int)4, rows=(int)3," in m for m in msgs)
+        ok = rc(t, "h_gst") == 0 and bool(msgs) and grid and "Got EOS from element" in out \
+            and frames[-1:] == [29] and len(msgs) + skips[-1] == 30
+        part("h gstreamer v4l2src ! focusmeter", ok,
+             f"exit {rc(t, 'h_gst')}, {len(msgs)} messages, last frame "
+             f"{frames[-1] if frames else None}, skipped {skips[-1] if skips else None}, "
+             f"EOS {'Got EOS from element' in out}" +
+             ("" if ok else "; " + (text(t, "h_gst", "err") or out).strip()[-300:]))
+
     # c. loopback: vivid's loop pixel by pixel, then frames of known blur through it
     for osd in ("0", "2"):
         diff = " ".join(t.get(f"c_probe_{osd}.diff", ["(none)"]))
@@ -200,7 +219,6 @@ def main():
         part(f"f sweep {name}", ok, detail)
 
     # d. faults
-    import re
     rec = text(t, "d_faults", "out")
     m = re.search(r"(\d+) dropped, (\d+) damaged", rec)
     dropped, damaged = (int(m.group(1)), int(m.group(2))) if m else (0, 0)

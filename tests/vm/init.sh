@@ -55,6 +55,17 @@ run b_v4l2_ana infocus analyze /tmp/rec_v4l2 --grid 4x3
 run b_lc_rec infocus record libcamera:0 -o /tmp/rec_lc --frames 4
 run b_lc_ana infocus analyze /tmp/rec_lc --grid 4x3
 
+# h. the GStreamer element on vivid's webcam input: v4l2src ! focusmeter ! fakesink posts its
+# messages and ends at num-buffers with EOS; only the plugins in /gst, scanned in-process
+if [ -f /gst/libgstinfocus.so ]; then
+	export GST_PLUGIN_SYSTEM_PATH=/gst GST_REGISTRY=/tmp/gst-registry.bin GST_REGISTRY_FORK=no
+	run h_gst gst-launch-1.0 -m v4l2src device=$cap num-buffers=30 ! \
+		video/x-raw,width=320,height=180 ! focusmeter grid=4x3 interval=0 ! fakesink
+	unset GST_PLUGIN_SYSTEM_PATH GST_REGISTRY GST_REGISTRY_FORK
+else
+	echo "@@h_gst.skip the build has no GStreamer plugin (src/gstreamer)"
+fi
+
 # e. the transfer function the camera's format names, on vivid's webcam input (before part c
 # turns on its loopback, which reports the output's): the colour space's own, then BT.709, none
 # (linear) and SMPTE 2084 set by its Transfer Function control; then libcamera's colour space

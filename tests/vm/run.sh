@@ -68,6 +68,21 @@ fi
 copy_with_libs "$(command -v v4l2-ctl)"
 [[ -x "$build/tests/drivers/test_drivers_v4l2_device" ]] &&
 	cp "$build/tests/drivers/test_drivers_v4l2_device" "$rd/bin/" && copy_with_libs "$rd/bin/test_drivers_v4l2_device"
+# The GStreamer element on vivid: gst-launch-1.0 with the two plugins its pipeline uses (the
+# core elements for fakesink, video4linux2 for v4l2src) and the build's focusmeter, all in /gst.
+gstplug="$build/src/gstreamer/libgstinfocus.so"
+if [[ -f "$gstplug" ]]; then
+	command -v gst-launch-1.0 >/dev/null || die "gst-launch-1.0 not found (gstreamer1.0-tools)"
+	sysplug=$(pkg-config --variable=pluginsdir gstreamer-1.0)
+	mkdir -p "$rd/gst"
+	for p in "$sysplug/libgstcoreelements.so" "$sysplug/libgstvideo4linux2.so" "$gstplug"; do
+		[[ -f "$p" ]] || die "GStreamer plugin $p not found (gstreamer1.0-plugins-good)"
+		cp "$p" "$rd/gst/"
+		strip -s "$rd/gst/$(basename "$p")" 2>/dev/null
+		copy_with_libs "$rd/gst/$(basename "$p")"
+	done
+	copy_with_libs "$(command -v gst-launch-1.0)"
+fi
 copy_with_libs /bin/udevadm
 copy_with_libs /lib/systemd/systemd-udevd
 mkdir -p "$rd/lib/udev" "$rd/etc/udev"
