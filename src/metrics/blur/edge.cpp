@@ -3,6 +3,7 @@
 // into an EdgeMeasurement; an edge found before measured again where it was (BlurTracker).
 #include <numbers>
 
+#include "infocus/sfr.h"
 #include "internal.h"
 
 namespace infocus::blur_detail {
@@ -42,6 +43,23 @@ EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, const BinLi
     const double bend = relativeBend(straight, sd);
     const double over = f.overshoot / 0.25;
     m.quality = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend - over * over);
+    if (o.sfr) {
+        // The SFR from the same bins, in light, about the fit's centroid and between its
+        // plateaus; the window is sized by the wide window's spread, so flare lowers it.
+        const EsfProfile p{{bins.pos.data(), bins.size},
+                           {bins.value.data(), bins.size},
+                           {bins.withinVar.data(), bins.size},
+                           f.mean,
+                           sd,
+                           f.profileLo,
+                           f.profileLo + f.profileContrast,
+                           o.binPx,
+                           0.5 * o.binPx - patch.hw};
+        if (const auto mtf = mtf50FromEsf(p)) {
+            m.mtf50CyPx = mtf->mtf50CyPx;
+            m.mtf50pCyPx = mtf->mtf50pCyPx;
+        }
+    }
     return m;
 }
 

@@ -325,7 +325,7 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
     // than sampling scatters them.
     const auto spread = [](double sigma) { return std::sqrt(sigma * sigma + kPixelVariance); };
     const double sharpestSpread = spread(sharpest);
-    double sw = 0, sv = 0, sr = 0, sh = 0, shw = 0, sRank = 0;
+    double sw = 0, sv = 0, sr = 0, sh = 0, shw = 0, sRank = 0, sm = 0, smp = 0, smw = 0;
     int agreeing = 0;
     bool measuredRise = true;
     for (const Ranked& g : good) {
@@ -337,6 +337,8 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
         if (e->contrast >= kCleanCnr * std::max(e->noise, 0.5) && e->sigmaPx <= kHaloSigmaPx)
             sh += e->quality * e->haloFraction, shw += e->quality;
         sRank += g.rank;
+        if (e->mtf50CyPx)
+            sm += e->quality * *e->mtf50CyPx, smp += e->quality * *e->mtf50pCyPx, smw += e->quality;
         measuredRise = measuredRise && e->riseMeasured;
         ++agreeing;
     }
@@ -357,6 +359,7 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
             *est.discDiameterPx, (1.0 + kDiscRiseSlack) * *est.edgeWidthPx / kDiscRisePerDiameter);
     est.edgeCount = agreeing;
     if (shw > 0) est.haloFraction = sh / shw;
+    if (smw > 0) est.mtf50CyPx = sm / smw, est.mtf50pCyPx = smp / smw;
     // Confidence: mean rank of the agreeing edges, more edges better, discounted by the
     // share of edges that disagree with them (mixed widths: soft objects or several depths).
     // One segment alone cannot tell the blur from its own softness or from a neighbour's light
