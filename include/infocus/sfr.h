@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <span>
+#include <vector>
 
 namespace infocus {
 
@@ -34,13 +35,31 @@ struct Mtf50 {
     double mtf50pCyPx = 0.0;  ///< frequency where it falls to half its peak (= MTF50 unsharpened)
 };
 
+/// The windowed line spread of an edge, kept so that its SFR can be read when it is needed.
+struct LineSpread {
+    std::vector<float> d;    ///< the steps of the ESF every dx px
+    double dx = 0.0;         ///< px
+    double dc = 0.0;         ///< Σ d: the transform at 0
+    double withinVar = 0.0;  ///< mean variance of the positions within a bin, px²
+    double negative = 0.0;   ///< Σ of the negative steps (halos, noise): 0 for a clean edge
+    double spreadPx = 0.0;   ///< EsfProfile::spreadPx
+};
+
+/// The line spread of @p esf as sfrAt describes it; empty when the profile is empty or has no
+/// contrast.
+std::optional<LineSpread> lineSpreadOf(const EsfProfile& esf);
+/// sfrAt of a line spread from lineSpreadOf.
+double sfrAt(const LineSpread& lsf, double cyPx);
+/// mtf50FromEsf of a line spread from lineSpreadOf.
+std::optional<Mtf50> mtf50Of(const LineSpread& lsf);
+
 /// Highest frequency searched for MTF50, cycles per pixel (twice Nyquist; the 4× oversampled
 /// ESF resolves it).
 inline constexpr double kMaxSfrCyPx = 1.0;
 
 /// The SFR of @p esf at @p cyPx cycles per pixel (1 at 0): the line spread taken within
-/// ±(4 σ + 1.5 px) of the centroid (the ESF beyond set to the plateaus), its outer fifth tapered
-/// by a half cosine, corrected for the bin's width and the finite difference. NaN when the
+/// ±(4 σ + 1 px) of the centroid (the ESF beyond set to the plateaus), its outer fifth tapered
+/// linearly to 0, corrected for the bin's width and the finite difference. NaN when the
 /// profile is empty or has no contrast.
 double sfrAt(const EsfProfile& esf, double cyPx);
 

@@ -44,8 +44,9 @@ EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, const BinLi
     const double over = f.overshoot / 0.25;
     m.quality = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend - over * over);
     if (o.sfr) {
-        // The SFR from the same bins, in light, about the fit's centroid and between its
-        // plateaus; the window is sized by the wide window's spread, so flare lowers it.
+        // The line spread for the SFR from the same bins, in light, about the fit's centroid
+        // and between its plateaus; the window is sized by the wide window's spread, so flare
+        // lowers the SFR. Its transform is taken only if the edge sets its region's blur.
         const EsfProfile p{{bins.pos.data(), bins.size},
                            {bins.value.data(), bins.size},
                            {bins.withinVar.data(), bins.size},
@@ -55,10 +56,8 @@ EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, const BinLi
                            f.profileLo + f.profileContrast,
                            o.binPx,
                            0.5 * o.binPx - patch.hw};
-        if (const auto mtf = mtf50FromEsf(p)) {
-            m.mtf50CyPx = mtf->mtf50CyPx;
-            m.mtf50pCyPx = mtf->mtf50pCyPx;
-        }
+        if (auto l = lineSpreadOf(p))
+            m.lineSpread = std::make_shared<const LineSpread>(std::move(*l));
     }
     return m;
 }

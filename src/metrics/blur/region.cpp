@@ -212,6 +212,9 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     if (!setup) return out;
     const RegionSetup& s = *setup;
     const Kernels kernels = chooseKernels(options);
+    // Whether the edges agree is asked while searching: their SFR is not needed for that.
+    BlurOptions noSfr = options;
+    noSfr.sfr = false;
     // The 64 strongest candidates first. A region without an edge yet whose candidates were all
     // passed over or covered (crossed by many lines stronger than its edges: traces, wires, text)
     // lists the next, weaker ones, four times as many each time. Equal gradients keep their scan
@@ -237,8 +240,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
             // Where fewer than three of its edges agree (blurFromEdges), one segment or two may
             // set the region, and one alone is never confident: it measures as many again, once.
             // On dense texture that doubles the regions whose blur two edges or more agree on.
-            if (most == options.maxEdges && haveUsable &&
-                blurFromEdges(out, options).edgeCount < 3) {
+            if (most == options.maxEdges && haveUsable && blurFromEdges(out, noSfr).edgeCount < 3) {
                 most = std::min(2 * options.maxEdges, kMaxEdgesPerRegion);
                 if (most > options.maxEdges) continue;
             }
@@ -337,8 +339,10 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
         if (e->contrast >= kCleanCnr * std::max(e->noise, 0.5) && e->sigmaPx <= kHaloSigmaPx)
             sh += e->quality * e->haloFraction, shw += e->quality;
         sRank += g.rank;
-        if (e->mtf50CyPx)
-            sm += e->quality * *e->mtf50CyPx, smp += e->quality * *e->mtf50pCyPx, smw += e->quality;
+        if (options.sfr && e->lineSpread)
+            if (const auto m = mtf50Of(*e->lineSpread))
+                sm += e->quality * m->mtf50CyPx, smp += e->quality * m->mtf50pCyPx,
+                    smw += e->quality;
         measuredRise = measuredRise && e->riseMeasured;
         ++agreeing;
     }
@@ -381,7 +385,13 @@ using namespace blur_detail;
 std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
                                           const BlurOptions& options) {
     RowPrefetcher none;
-    return measureEdgesPrefetching(luma, roi, sanitized(options), none);
+    std::vector<EdgeMeasurement> edges =
+        measureEdgesPrefetching(luma, roi, sanitized(options), none);
+    for (EdgeMeasurement& e : edges)
+        if (e.lineSpread)
+            if (const auto m = mtf50Of(*e.lineSpread))
+                e.mtf50CyPx = m->mtf50CyPx, e.mtf50pCyPx = m->mtf50pCyPx;
+    return edges;
 }
 
 BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& options) {

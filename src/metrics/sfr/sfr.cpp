@@ -23,18 +23,10 @@ double sinc(double x) {
 // The window's half-width in σ of the line spread and past that in px, and the share of it
 // tapered at each end. A Gaussian keeps 99.99 % of its line spread within 4 σ and a disc all of
 // it within 2 σ; the taper starts beyond 3.2 σ, where noise is all that is left.
-constexpr double kWindowSigmas = 4.0, kWindowPadPx = 1.5, kTaperShare = 0.2;
-
-// The windowed line spread of an ESF on a uniform grid: d[k] between x0 + kΔ and x0 + (k+1)Δ.
-struct LineSpread {
-    std::vector<double> d;
-    double dx = 0.0;
-    double dc = 0.0;         // Σ d: the transform at 0
-    double withinVar = 0.0;  // mean spread of the positions within a bin, px²
-};
+constexpr double kWindowSigmas = 4.0, kWindowPadPx = 1.0, kTaperShare = 0.2;
 
 // Builds @p out from @p esf; false when it has no bins or no contrast.
-bool lineSpread(const EsfProfile& esf, LineSpread& out) {
+bool buildLineSpread(const EsfProfile& esf, LineSpread& out) {
     const size_t n = std::min(esf.pos.size(), esf.value.size());
     if (n < 2 || !(esf.hi > esf.lo) || !(esf.binPx > 0.0)) return false;
     const double dx = esf.binPx;
@@ -44,6 +36,8 @@ bool lineSpread(const EsfProfile& esf, LineSpread& out) {
     const double x0 =
         esf.binCentrePx + std::round((esf.centrePx - 0.5 * steps * dx - esf.binCentrePx) / dx) * dx;
     out.dx = dx;
+    out.spreadPx = esf.spreadPx;
+    out.negative = 0.0;
     out.d.resize(static_cast<size_t>(steps));
     // The ESF at the grid's points by linear interpolation between the bins' mean positions, the
     // plateau levels at the window's ends and beyond the bins.
@@ -72,12 +66,14 @@ bool lineSpread(const EsfProfile& esf, LineSpread& out) {
                 if (j - 1 < esf.withinVar.size()) sumVar += esf.withinVar[j - 1], ++nVar;
             }
         }
-        // Tukey window about the centroid, at the step's midpoint.
+        // A flat window about the centroid whose outer fifth falls linearly to 0 (no
+        // transcendental per step: this runs for every edge measured).
         const double r = std::abs(x - 0.5 * dx - esf.centrePx) - taperFrom;
-        const double w = r <= 0.0 ? 1.0 : 0.5 * (1.0 + std::cos(kPi * std::min(r / taperLen, 1.0)));
+        const double w = r <= 0.0 ? 1.0 : std::max(0.0, 1.0 - r / taperLen);
         const double step = w * (e - prev);
-        out.d[static_cast<size_t>(k - 1)] = step;
+        out.d[static_cast<size_t>(k - 1)] = static_cast<float>(step);
         dc += step;
+        out.negative += std::min(step, 0.0);
         prev = e;
     }
     out.dc = dc;
@@ -91,7 +87,8 @@ double response(const LineSpread& l, double f) {
     const double th = 2.0 * kPi * f * l.dx;
     const double wr = std::cos(th), wi = -std::sin(th);
     double zr = 1.0, zi = 0.0, re = 0.0, im = 0.0;
-    for (const double d : l.d) {
+    for (const float v : l.d) {
+        const double d = v;
         re += d * zr, im += d * zi;
         const double t = zr * wr - zi * wi;
         zi = zr * wi + zi * wr;
@@ -102,10 +99,10 @@ double response(const LineSpread& l, double f) {
 }
 
 // The frequency in (a, b] where @p l's response falls to @p level, given r(a) > level ≥ r(b):
-// regula falsi with the Illinois step, to 1e-4 cy/px.
+// regula falsi with the Illinois step, to 0.05 % of the frequency.
 double solve(const LineSpread& l, double a, double ra, double b, double rb, double level) {
     int side = 0;
-    for (int i = 0; i < 40 && b - a > 1e-4; ++i) {
+    for (int i = 0; i < 40 && b - a > 5e-4 * b; ++i) {
         const double c = b - (rb - level) * (b - a) / (rb - ra);
         const double rc = response(l, c);
         if (rc > level) {
@@ -123,38 +120,79 @@ double solve(const LineSpread& l, double a, double ra, double b, double rb, doub
 
 }  // namespace
 
+std::optional<LineSpread> lineSpreadOf(const EsfProfile& esf) {
+    LineSpread l;
+    if (!buildLineSpread(esf, l)) return std::nullopt;
+    return l;
+}
+
+double sfrAt(const LineSpread& l, double cyPx) {
+    return l.d.empty() || !(l.dc > 0) ? std::nan("") : response(l, cyPx);
+}
+
 double sfrAt(const EsfProfile& esf, double cyPx) {
     LineSpread l;
-    if (!lineSpread(esf, l)) return std::nan("");
+    if (!buildLineSpread(esf, l)) return std::nan("");
     return response(l, cyPx);
 }
 
-std::optional<Mtf50> mtf50FromEsf(const EsfProfile& esf) {
-    thread_local LineSpread l;
-    if (!lineSpread(esf, l)) return std::nullopt;
-    // Start at a Gaussian's MTF50 for the spread (√(ln 2 / 2) / (π σ)), then step out by half
-    // again until the response is under 0.5: a disc's first zero lies beyond 1.7 times that.
-    const double guess = 0.18739 / std::max(esf.spreadPx, 0.2);
-    double a = 0.0, ra = 1.0;
-    double b = std::min(guess, kMaxSfrCyPx), rb = response(l, b);
-    while (rb > 0.5) {
-        if (b >= kMaxSfrCyPx) return std::nullopt;
-        a = b, ra = rb;
-        b = std::min(1.5 * b, kMaxSfrCyPx);
-        rb = response(l, b);
-    }
+std::optional<Mtf50> mtf50Of(const LineSpread& l) {
+    if (l.d.empty() || !(l.dc > 0)) return std::nullopt;
+    // A Gaussian's SFR is e^(−k f²): from its MTF50 guess √(ln 2 / 2) / (π σ), each step
+    // f ← f √(ln 2 / −ln r(f)) lands on a Gaussian's MTF50 at once and on a disc's or a real
+    // edge's within a few; a bracket and regula falsi take over where it does not settle.
+    double f = std::min(0.18739 / std::max(l.spreadPx, 0.2), kMaxSfrCyPx);
+    double a = 0.0, ra = 1.0;  // the highest frequency seen above 0.5
+    double b = 0.0, rb = 0.0;  // the lowest seen at or below it (b = 0: none)
     Mtf50 out;
-    out.mtf50CyPx = solve(l, a, ra, b, rb, 0.5);
-    // The peak on a coarse scan below MTF50: above 1 only where the edge was sharpened.
-    double peak = 1.0, at = 0.0;
-    for (int k = 1; k <= 4; ++k) {
-        const double f = 0.2 * k * out.mtf50CyPx;
+    bool settled = false;
+    for (int i = 0; i < 6; ++i) {
         const double r = response(l, f);
-        if (r > peak) peak = r, at = f;
+        if (std::abs(r - 0.5) < 2.5e-4) {
+            out.mtf50CyPx = f;
+            settled = true;
+            break;
+        }
+        if (r > 0.5 && f > a) a = f, ra = r;
+        if (r <= 0.5 && (b == 0.0 || f < b)) b = f, rb = r;
+        if (!(r > 0.0 && r < 1.0)) break;
+        const double next = f * std::sqrt(std::log(2.0) / -std::log(r));
+        if (!(next > 0.0) || next > kMaxSfrCyPx) break;
+        f = next;
+    }
+    if (!settled) {
+        if (b > 0.0 && a >= b) a = 0.0, ra = 1.0;  // not monotonic there: from 0
+        if (b == 0.0) {
+            // Step out from the highest frequency above 0.5 until the response falls.
+            b = std::min(std::max(1.5 * a, 0.01), kMaxSfrCyPx);
+            rb = response(l, b);
+            while (rb > 0.5) {
+                if (b >= kMaxSfrCyPx) return std::nullopt;
+                a = b, ra = rb;
+                b = std::min(1.5 * b, kMaxSfrCyPx);
+                rb = response(l, b);
+            }
+        }
+        out.mtf50CyPx = solve(l, a, ra, b, rb, 0.5);
+    }
+    // The peak on a coarse scan below MTF50: above 1 only where the line spread has negative
+    // lobes (a sharpened edge, or noise in its tails); a line spread without them has its
+    // peak at 0, where MTF50P is MTF50.
+    double peak = 1.0, at = 0.0;
+    for (int k = 1; k <= 4 && l.negative < -0.005 * l.dc; ++k) {
+        const double fk = 0.2 * k * out.mtf50CyPx;
+        const double r = response(l, fk);
+        if (r > peak) peak = r, at = fk;
     }
     out.mtf50pCyPx =
         peak > 1.0 ? solve(l, at, peak, out.mtf50CyPx, 0.5, 0.5 * peak) : out.mtf50CyPx;
     return out;
+}
+
+std::optional<Mtf50> mtf50FromEsf(const EsfProfile& esf) {
+    thread_local LineSpread l;
+    if (!buildLineSpread(esf, l)) return std::nullopt;
+    return mtf50Of(l);
 }
 
 double gaussianMtf(double cyPx, double sigmaPx) {
