@@ -260,25 +260,35 @@ ThroughFocus throughFocus(const StackResult& stack, double minConfidence,
         rf.col = g.col, rf.row = g.row, rf.rect = g.rect;
         const double cx = g.rect.x + 0.5 * g.rect.w, cy = g.rect.y + 0.5 * g.rect.h;
         rf.zone = zoneOf(cx, cy, stack.width, stack.height);
-        int peak = -1, count = 0;
         for (size_t i = 0; i < n; ++i) {
             std::optional<double> m;
             if (i < g.mtf50.size() && g.usable[i] && g.confidence[i] >= minConfidence)
                 m = g.mtf50[i];
             rf.mtf50.push_back(m);
-            if (m) {
-                ++count;
-                if (peak < 0 || *m > *rf.mtf50[static_cast<size_t>(peak)])
-                    peak = static_cast<int>(i);
-            }
+        }
+        // The curve read through a mean of three frames, where the frame and one beside it at
+        // least were measured: one edge read sharp in one frame (clutter, a lone segment) must
+        // not make the peak. A mean of three leaves a parabola's vertex where it was.
+        std::vector<std::optional<double>> sm(n);
+        int peak = -1, count = 0;
+        for (size_t i = 0; i < n; ++i) {
+            if (!rf.mtf50[i]) continue;
+            double sum = *rf.mtf50[i];
+            int k = 1;
+            for (size_t j : {i - 1, i + 1})
+                if (j < n && rf.mtf50[j]) sum += *rf.mtf50[j], ++k;
+            if (k < 2) continue;
+            sm[i] = sum / k;
+            ++count;
+            if (peak < 0 || *sm[i] > *sm[static_cast<size_t>(peak)]) peak = static_cast<int>(i);
         }
         if (count >= 3 && peak >= 0) {
             const size_t p = static_cast<size_t>(peak);
-            double best = tf.axis[p], top = *rf.mtf50[p];
+            double best = tf.axis[p], top = *sm[p];
             // A parabola through the peak and its two neighbours where both were measured.
-            if (p > 0 && p + 1 < n && rf.mtf50[p - 1] && rf.mtf50[p + 1]) {
+            if (p > 0 && p + 1 < n && sm[p - 1] && sm[p + 1]) {
                 const double x0 = tf.axis[p - 1], x1 = tf.axis[p], x2 = tf.axis[p + 1];
-                const double y0 = *rf.mtf50[p - 1], y1 = top, y2 = *rf.mtf50[p + 1];
+                const double y0 = *sm[p - 1], y1 = top, y2 = *sm[p + 1];
                 const double d = (x0 - x1) * (x0 - x2) * (x1 - x2);
                 const double A = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / d;
                 const double B =
@@ -297,16 +307,16 @@ ThroughFocus throughFocus(const StackResult& stack, double minConfidence,
             // The span about the peak where MTF50 stays at or above the threshold, linear
             // between frames; a side that never falls below it ends at the stack's end.
             const double thr = rf.thresholdCyPx;
-            if (*rf.mtf50[p] >= thr) {
+            if (*sm[p] >= thr) {
                 auto edge = [&](int step) {
                     size_t i = p;
                     while (true) {
                         const long j = static_cast<long>(i) + step;
                         if (j < 0 || j >= static_cast<long>(n)) return tf.axis[i];
-                        const auto& m = rf.mtf50[static_cast<size_t>(j)];
+                        const auto& m = sm[static_cast<size_t>(j)];
                         if (!m) return tf.axis[i];
                         if (*m < thr) {
-                            const double a0 = *rf.mtf50[i], t = (a0 - thr) / (a0 - *m);
+                            const double a0 = *sm[i], t = (a0 - thr) / (a0 - *m);
                             return tf.axis[i] + t * (tf.axis[static_cast<size_t>(j)] - tf.axis[i]);
                         }
                         i = static_cast<size_t>(j);
