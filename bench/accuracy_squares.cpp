@@ -77,6 +77,13 @@ void runSquareAccuracy(const SquareSink& sink) {
         if (b.sigmaPx) row.measuredPx = disc ? *b.discDiameterPx : *b.sigmaPx;
         row.errorPct =
             row.measuredPx ? 100.0 * std::abs(*row.measuredPx - row.truePx) / row.truePx : 100.0;
+        // The square's four edges share the pixel's response: its angle mod 90° is theirs.
+        row.trueMtf50 = trueMtf50(psf, std::fmod(row.angleDeg, 90.0));
+        row.measuredMtf50 = b.mtf50CyPx;
+        row.mtfErrorPct =
+            row.measuredMtf50 && row.trueMtf50
+                ? 100.0 * std::abs(*row.measuredMtf50 - *row.trueMtf50) / *row.trueMtf50
+                : 100.0;
         sink(row);
     }
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "infocus/image.h"
+#include "infocus/synth.h"
 
 namespace infocus::bench {
 
@@ -138,13 +139,16 @@ struct SquareRow {
     bool darkSquare = false;  ///< a dark square on a light ground (else the reverse)
     int width = 0;            ///< the frame (and region), pixels
     int height = 0;
-    double sidePx = 0.0;               ///< the square's side, pixels
-    double angleDeg = 0.0;             ///< its rotation, 0–360°
-    bool nearAxis = false;             ///< within 1–5° of 0° or 90°
-    bool wideDisc = false;             ///< a disc of kWideDiscPx or more
-    std::optional<double> measuredPx;  ///< d or σ as read; empty: no edge
-    double confidence = 0.0;           ///< the region's confidence
-    double errorPct = 0.0;             ///< |measured − true| / true; 100 when no edge
+    double sidePx = 0.0;                  ///< the square's side, pixels
+    double angleDeg = 0.0;                ///< its rotation, 0–360°
+    bool nearAxis = false;                ///< within 1–5° of 0° or 90°
+    bool wideDisc = false;                ///< a disc of kWideDiscPx or more
+    std::optional<double> measuredPx;     ///< d or σ as read; empty: no edge
+    double confidence = 0.0;              ///< the region's confidence
+    double errorPct = 0.0;                ///< |measured − true| / true; 100 when no edge
+    std::optional<double> trueMtf50;      ///< the analytic MTF50 (trueMtf50), cycles per pixel
+    std::optional<double> measuredMtf50;  ///< BlurEstimate::mtf50CyPx
+    double mtfErrorPct = 0.0;             ///< |measured − true| / true MTF50; 100 when none
 };
 using SquareSink = std::function<void(const SquareRow&)>;
 /// Cases of the slanted-square table and the seed that draws them.
@@ -162,5 +166,31 @@ inline constexpr double kSquareWorstPct = 5.0;
 /// σ 0.7–20 px, any angle with a quarter within 1–5° of an axis, noise 0–2 % of a contrast of
 /// 60–180 grey levels, frames from 160 px), each frame one region, and hands each to @p sink.
 void runSquareAccuracy(const SquareSink& sink);
+
+/// One line of the MTF50 accuracy table: a PSF of known size measured at every edge angle.
+struct MtfRow {
+    std::string model;                                 ///< "disc d" (diameter) or "gauss s" (σ)
+    double truePx = 0.0;                               ///< the true d or σ, pixels
+    double noisePct = 0.0;                             ///< noise σ, percent of the contrast
+    std::vector<double> trueMtf50;                     ///< per mtfAccuracyAngles(), cy/px
+    std::vector<std::optional<double>> measuredMtf50;  ///< per angle; empty: none
+    double worstErrorPct = 0.0;                        ///< over the angles; 100 when one had none
+    double tolerancePct = 0.0;
+    bool pass = false;  ///< worstErrorPct within tolerancePct
+};
+using MtfSink = std::function<void(const MtfRow&)>;
+/// MTF50 targets: Gaussian edges and discs, and the slanted squares' 95th percentile.
+inline constexpr double kMtfGaussianTolerancePct = 2.0;
+inline constexpr double kMtfDiscTolerancePct = 3.0;
+inline constexpr double kMtfSquareP95Pct = 3.0;
+/// The analytic MTF50 of @p psf seen through a 1 px square pixel along an edge normal at
+/// @p angleDeg: where MTF_psf(f) · sinc(f cos θ) · sinc(f sin θ) falls to 0.5, cycles per pixel.
+std::optional<double> trueMtf50(const synth::Psf& psf, double angleDeg);
+/// Edge normal angles (degrees) of the MTF50 table's columns (2–43°: the slanted-edge method
+/// needs the edge off the pixel grid's axes and diagonals).
+const std::vector<double>& mtfAccuracyAngles();
+/// Measures synthetic edges (Gaussian σ 0.4–5 px, discs 2–30 px, noise 0–2 % of the contrast,
+/// 8-bit, pixel-integrated) and hands each row, their MTF50 against trueMtf50, to @p sink.
+void runMtfAccuracy(const MtfSink& sink);
 
 }  // namespace infocus::bench

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 
 #include "bench/bench.h"
 #include "infocus/blur.h"
@@ -241,6 +242,38 @@ void benchBlur(const BenchOptions& options, const RowSink& sink) {
         row.frameBlurPx = discPx;
         row.regionsWithEdge = measured;
         sink(row);
+        // What MTF50 costs: the engine with and without the SFR of each edge (BlurOptions::sfr),
+        // one frame of each in turn so that both see the same load, each the median of its
+        // frames' thread CPU time (the other engines' builds share these cores).
+        BlurOptions noSfr;
+        noSfr.sfr = false;
+        std::vector<double> with, without;
+        const auto cpuMs = [&](const BlurOptions& o) {
+            timespec a{}, b{};
+            clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a);
+            measureBlurRegions(view, regions, o);
+            clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
+            return 1e3 * (b.tv_sec - a.tv_sec) + 1e-6 * (b.tv_nsec - a.tv_nsec);
+        };
+        cpuMs(BlurOptions{}), cpuMs(noSfr);  // warm-up
+        for (int i = 0; i < std::max(15, static_cast<int>(options.secondsPerCase * 60)); ++i)
+            with.push_back(cpuMs(BlurOptions{})), without.push_back(cpuMs(noSfr));
+        const auto median = [](std::vector<double> v) {
+            std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+            return v[v.size() / 2];
+        };
+        const double withMs = median(with), withoutMs = median(without);
+        char costNote[160];
+        std::snprintf(costNote, sizeof costNote,
+                      "16x9 regions, one thread, frame blurred by a %.0f px disc: MTF50 of every "
+                      "edge adds %.1f %%",
+                      discPx, 100.0 * (withMs / withoutMs - 1.0));
+        BenchRow cost{
+            "blur_mtf50", w,         h,
+            withMs,       withoutMs, "the same engine without the SFR (BlurOptions::sfr off)",
+            costNote};
+        cost.frameBlurPx = discPx;
+        sink(cost);
     }
     benchBlurStream(options, sink, scene, regions);
 }

@@ -23,10 +23,12 @@ struct BenchModule {
     const std::vector<double>& (*accuracyAngles)();
     void (*runAccuracy)(const AccuracySink& sink);
     void (*runSquareAccuracy)(const SquareSink& sink);
+    const std::vector<double>& (*mtfAccuracyAngles)();
+    void (*runMtfAccuracy)(const MtfSink& sink);
 };
 
 /// Version of struct BenchModule; raised whenever it or a type it passes changes.
-inline constexpr int kBenchAbi = 3;
+inline constexpr int kBenchAbi = 4;
 
 /// File name of the module and the name of its entry point.
 inline constexpr const char* kBenchModule = "infocus-bench.so";

@@ -63,6 +63,8 @@ struct RegionResult {
     std::optional<double> edgeWidthPx;   ///< 10–90 % edge rise, pixels
     std::optional<double> blurSigmaPx;   ///< Gaussian-equivalent σ, pixels
     std::optional<double> blurWidthPx;   ///< disc-equivalent diameter (thin-lens ΔX_i), px
+    std::optional<double> mtf50CyPx;     ///< MTF50, cycles per pixel (BlurEstimate::mtf50CyPx)
+    std::optional<double> mtf50pCyPx;    ///< MTF50P, cycles per pixel
     double confidence = 0.0;             ///< 0–1 trust in the blur fields; 0 when they are null
     std::optional<double> haloFraction;  ///< BlurEstimate::haloFraction (not in the JSONL)
     RegionStatus status = RegionStatus::Ok;  ///< Dark or Clipped: sharpness and blur mean nothing

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "infocus/image.h"
+#include "infocus/sfr.h"
 
 namespace infocus {
 
@@ -42,6 +43,9 @@ struct BlurOptions {
     /// Use the AVX2 pixel kernels when the CPU has them (same results); false runs the generic
     /// reference code.
     bool simd = true;
+    /// Also take each edge's SFR from its ESF (EdgeMeasurement::mtf50CyPx, sfr.h); false saves
+    /// its cost where only the widths are wanted.
+    bool sfr = true;
 };
 
 /// The blur of one region. All widths are in pixels of the analysed image, with the pixel area
@@ -60,6 +64,11 @@ struct BlurEstimate {
     /// quality-weighted over the agreeing edges of σ ≤ 2 px and contrast ≥ 20 × the spread
     /// beside them); empty where there is no such edge. Not corrected for: see docs/blur.md.
     std::optional<double> haloFraction;
+    /// MTF50 of the system (optics and pixel area, opticsFloorSigmaPx not removed), cycles per
+    /// pixel: the quality-weighted mean over the agreeing edges (those that set sigmaPx) that
+    /// have one (sfr.h); empty without one, or with BlurOptions::sfr off.
+    std::optional<double> mtf50CyPx;
+    std::optional<double> mtf50pCyPx;  ///< MTF50P likewise: where the SFR is half its peak
 };
 
 /// Below this confidence a reading says that an edge was found more than how wide its blur is:
@@ -130,6 +139,14 @@ struct EdgeMeasurement {
     /// plateaus near the edge, as a fraction of the contrast (about 0 for a blurred clean edge);
     /// 0 where not judged (σ over 2 px, or contrast under 20 × the spread beside the edge).
     double haloFraction = 0.0;
+    /// The edge's MTF50 and MTF50P in cycles per pixel (sfr.h), the pixel area included, as
+    /// measureEdges gives them; empty when BlurOptions::sfr is off or the SFR does not fall to
+    /// 0.5 below 1 cy/px.
+    std::optional<double> mtf50CyPx, mtf50pCyPx;
+    /// The edge's windowed line spread (BlurOptions::sfr on), kept so that its SFR is read only
+    /// where it is needed: a region reads those of the edges that set its blur, a fifth or so
+    /// of the edges measured on the way.
+    std::shared_ptr<const LineSpread> lineSpread;
 };
 
 /// Every edge segment measureBlur used in @p roi, in the order found.

@@ -70,9 +70,10 @@ struct LiveRegion {
     int col = 0, row = 0;
     Rect rect;
     double sharpness = 0.0;
-    std::optional<double> blurPx;            ///< disc diameter, pixels; empty without a usable edge
-    double confidence = 0.0;                 ///< 0–1 trust in blurPx
-    RegionStatus status = RegionStatus::Ok;  ///< Dark or Clipped: no score or blur to show
+    std::optional<double> blurPx;  ///< disc diameter, pixels; empty without a usable edge
+    double confidence = 0.0;       ///< 0–1 trust in blurPx
+    std::optional<double> mtf50CyPx, mtf50pCyPx;  ///< RegionResult's MTF50 and MTF50P, cy/px
+    RegionStatus status = RegionStatus::Ok;       ///< Dark or Clipped: no score or blur to show
     /// The two object distances whose blur equals blurPx (in front of and behind the in-focus
     /// plane; far may be ∞ or absent), with lens data and a confident blur: a width alone
     /// cannot tell which side the region is on.

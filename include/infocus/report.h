@@ -18,6 +18,7 @@
 #include "infocus/image.h"
 #include "infocus/optics.h"
 #include "infocus/stack.h"
+#include "infocus/qa.h"
 
 namespace infocus {
 
@@ -66,6 +67,13 @@ private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
+
+/// The QA page of `infocus check --report` (docs/qa.md): each verdict's regions over the frame
+/// (@p firstFrame, may be empty) in pass/fail colours with the zones, its criteria table, and
+/// with @p tf the MTF50 through-focus curves.
+std::string qaReportHtml(const std::vector<qa::Verdict>& verdicts,
+                         const std::optional<qa::ThroughFocus>& tf, const Luma8& firstFrame,
+                         const std::string& source);
 
 /// Writes @p text to @p path through a temporary file beside it and a rename, so that a failed
 /// write never leaves half a report (nor destroys an older one). A symbolic link is written

@@ -68,6 +68,8 @@ struct StackRegion {
     std::vector<double> sharpness;                 ///< per frame (no noise correction)
     std::vector<std::optional<double>> blurWidth;  ///< disc-equivalent diameter per frame, px
     std::vector<double> confidence;                ///< blur confidence per frame
+    std::vector<std::optional<double>> mtf50;      ///< MTF50 per frame, cycles per pixel
+    std::vector<std::optional<double>> mtf50p;     ///< MTF50P per frame, cycles per pixel
     std::vector<bool> usable;  ///< per frame: measured (RegionStatus::Ok) and so in the curves
     /// Per frame: the score the frame's white noise (estimateNoiseSigma) adds to the region's.
     std::vector<double> noise;

@@ -15,7 +15,7 @@ std::vector<Command> registerCommands(CLI::App& app) {
     return {
         addLiveCommand(app),   addDevicesCommand(app), addAnalyzeCommand(app), addDofCommand(app),
         addDepthCommand(app),  addRecordCommand(app),  addSweepCommand(app),   addStackCommand(app),
-        addReportCommand(app), addBenchCommand(app),
+        addReportCommand(app), addCheckCommand(app),   addBenchCommand(app),
     };
 }
 

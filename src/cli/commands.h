@@ -66,6 +66,7 @@ std::string depthMapOptionsUsage(const DepthMapOptions& options);
 // One entry point per command file (src/cli/cmd_NAME.cpp).
 Command addAnalyzeCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);
+Command addCheckCommand(CLI::App& app);
 Command addDevicesCommand(CLI::App& app);
 Command addDofCommand(CLI::App& app);
 Command addDepthCommand(CLI::App& app);

@@ -93,6 +93,8 @@ std::string liveStateJson(const LiveState& s) {
              {"h", r.rect.h},
              {"sharpness", r.status == RegionStatus::Ok ? Json(r.sharpness) : Json()},
              {"blur_px", number(r.blurPx)},
+             {"mtf50_cy_px", number(r.mtf50CyPx)},
+             {"mtf50p_cy_px", number(r.mtf50pCyPx)},
              {"confidence", r.confidence},
              {"status", std::string(regionStatusName(r.status))},
              {"depth_m",

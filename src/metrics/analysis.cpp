@@ -233,6 +233,8 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
                 r.edgeWidthPx = b.edgeWidthPx;
                 r.blurSigmaPx = b.sigmaPx;
                 r.blurWidthPx = b.discDiameterPx;
+                r.mtf50CyPx = b.mtf50CyPx;
+                r.mtf50pCyPx = b.mtf50pCyPx;
                 r.confidence = b.confidence;
                 r.haloFraction = b.haloFraction;
             }

@@ -63,6 +63,8 @@ std::string toJsonLine(const FrameAnalysis& a) {
         o["edge_width_px"] = optionalNumber(ok ? r.edgeWidthPx : std::nullopt);
         o["blur_sigma_px"] = optionalNumber(ok ? r.blurSigmaPx : std::nullopt);
         o["blur_width_px"] = optionalNumber(ok ? r.blurWidthPx : std::nullopt);
+        o["mtf50_cy_px"] = optionalNumber(ok ? r.mtf50CyPx : std::nullopt);
+        o["mtf50p_cy_px"] = optionalNumber(ok ? r.mtf50pCyPx : std::nullopt);
         o["confidence"] = ok ? r.confidence : 0.0;
         o["status"] = regionStatusName(r.status);
         if (!ok) o["reason"] = r.statusReason;
@@ -227,6 +229,9 @@ Result<FrameAnalysis> parseJsonLine(std::string_view line) {
             r.edgeWidthPx = number(o, "edge_width_px", 0.0, kHuge);
             r.blurSigmaPx = number(o, "blur_sigma_px", 0.0, kHuge);
             r.blurWidthPx = number(o, "blur_width_px", 0.0, kHuge);
+            // Written since the SFR was measured: older records lack them.
+            if (o.contains("mtf50_cy_px")) r.mtf50CyPx = number(o, "mtf50_cy_px", 0.0, kHuge);
+            if (o.contains("mtf50p_cy_px")) r.mtf50pCyPx = number(o, "mtf50p_cy_px", 0.0, kHuge);
             r.confidence = number(o, "confidence", 0.0, 1.0).value_or(0.0);
             a.regions.push_back(r);
         }

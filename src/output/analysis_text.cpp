@@ -24,7 +24,9 @@ std::string csvNumber(const std::optional<double>& v) {
 void writeAnalysisCsv(std::ostream& out, const FrameAnalysis& a, bool header) {
     if (header)
         out << "frame,timestamp_ns,lens_value,lens_unit,width,height,col,row,x,y,w,h,sharpness,"
-               "edge_width_px,blur_sigma_px,blur_width_px,confidence,status,reason\n";
+               "edge_width_px,blur_sigma_px,blur_width_px,mtf50_cy_px,mtf50p_cy_px,confidence,"
+               "status,"
+               "reason\n";
     for (const auto& r : a.regions) {
         // A region that could not be measured has empty fields (its reason has no comma).
         const bool ok = r.status == RegionStatus::Ok;
@@ -35,8 +37,9 @@ void writeAnalysisCsv(std::ostream& out, const FrameAnalysis& a, bool header) {
             << ',' << (a.lens ? a.lens->unit : "") << ',' << a.width << ',' << a.height << ','
             << r.col << ',' << r.row << ',' << r.rect.x << ',' << r.rect.y << ',' << r.rect.w << ','
             << r.rect.h << ',' << value(r.sharpness) << ',' << value(r.edgeWidthPx) << ','
-            << value(r.blurSigmaPx) << ',' << value(r.blurWidthPx) << ',' << value(r.confidence)
-            << ',' << regionStatusName(r.status) << ',' << (ok ? "" : r.statusReason) << '\n';
+            << value(r.blurSigmaPx) << ',' << value(r.blurWidthPx) << ',' << value(r.mtf50CyPx)
+            << ',' << value(r.mtf50pCyPx) << ',' << value(r.confidence) << ','
+            << regionStatusName(r.status) << ',' << (ok ? "" : r.statusReason) << '\n';
     }
 }
 
@@ -77,6 +80,11 @@ void writeAnalysisTable(std::ostream& out, const FrameAnalysis& a, bool grid) {
                 std::snprintf(buf, sizeof buf, "  blur %.2f px (σ %.2f px, confidence %.2f)",
                               *r.blurWidthPx, r.blurSigmaPx.value_or(0), r.confidence);
                 out << buf;
+                if (r.mtf50CyPx) {
+                    std::snprintf(buf, sizeof buf, "  MTF50 %.3f cy/px (MTF50P %.3f)", *r.mtf50CyPx,
+                                  r.mtf50pCyPx.value_or(*r.mtf50CyPx));
+                    out << buf;
+                }
             }
             out << "\n";
         }

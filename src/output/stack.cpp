@@ -111,11 +111,16 @@ std::string stackJson(const StackResult& r, int indent) {
         Json blur = Json::array();
         for (size_t i = 0; i < g.blurWidth.size(); ++i)
             blur.push_back(g.usable[i] ? orNull(g.blurWidth[i]) : Json(nullptr));
-        Json sharp = Json::array();
-        for (size_t i = 0; i < g.sharpness.size(); ++i)
+        Json sharp = Json::array(), mtf = Json::array(), mtfp = Json::array();
+        for (size_t i = 0; i < g.sharpness.size(); ++i) {
             sharp.push_back(g.usable[i] ? Json(g.sharpness[i]) : Json(nullptr));
+            mtf.push_back(i < g.mtf50.size() ? orNull(g.mtf50[i]) : Json(nullptr));
+            mtfp.push_back(i < g.mtf50p.size() ? orNull(g.mtf50p[i]) : Json(nullptr));
+        }
         o["curve"] = {{"sharpness", std::move(sharp)},
                       {"blur_px", std::move(blur)},
+                      {"mtf50_cy_px", std::move(mtf)},
+                      {"mtf50p_cy_px", std::move(mtfp)},
                       {"confidence", listOf(g.confidence)}};
         regions.push_back(std::move(o));
     }

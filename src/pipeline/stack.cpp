@@ -432,6 +432,8 @@ void assembleRegions(const std::vector<Measured>& measured, StackResult& r) {
             g.sharpness.push_back(reg.sharpness);
             g.blurWidth.push_back(ok ? reg.blurWidthPx : std::nullopt);
             g.confidence.push_back(ok ? reg.confidence : 0.0);
+            g.mtf50.push_back(ok ? reg.mtf50CyPx : std::nullopt);
+            g.mtf50p.push_back(ok ? reg.mtf50pCyPx : std::nullopt);
             g.usable.push_back(ok);
             g.noise.push_back(measured[i].noise[k]);
         }

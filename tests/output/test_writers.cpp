@@ -35,6 +35,8 @@ FrameAnalysis twoRegions() {
     sharp.edgeWidthPx = 1.75;
     sharp.blurSigmaPx = 0.5;
     sharp.blurWidthPx = 2.5;
+    sharp.mtf50CyPx = 0.3125;
+    sharp.mtf50pCyPx = 0.375;
     sharp.confidence = 0.875;
     RegionResult flat;
     flat.col = 1;
@@ -70,11 +72,15 @@ TEST_CASE("JSONL: blur not measured is null, and no lens position is null") {
     CHECK(flat["edge_width_px"].is_null());
     CHECK(flat["blur_sigma_px"].is_null());
     CHECK(flat["blur_width_px"].is_null());
+    CHECK(flat["mtf50_cy_px"].is_null());
+    CHECK(flat["mtf50p_cy_px"].is_null());
     CHECK(flat["confidence"] == 0.0);
     const Json& sharp = j["regions"][0];
     CHECK(sharp["blur_width_px"] == 2.5);
     CHECK(sharp["blur_sigma_px"] == 0.5);
     CHECK(sharp["edge_width_px"] == 1.75);
+    CHECK(sharp["mtf50_cy_px"] == 0.3125);
+    CHECK(sharp["mtf50p_cy_px"] == 0.375);
     CHECK(sharp["confidence"] == 0.875);
 }
 
@@ -123,6 +129,8 @@ TEST_CASE("JSONL: a line read back holds the fields written") {
         CHECK(r.edgeWidthPx == w.edgeWidthPx);
         CHECK(r.blurSigmaPx == w.blurSigmaPx);
         CHECK(r.blurWidthPx == w.blurWidthPx);
+        CHECK(r.mtf50CyPx == w.mtf50CyPx);
+        CHECK(r.mtf50pCyPx == w.mtf50pCyPx);
         CHECK(r.confidence == w.confidence);
     }
 }
@@ -142,10 +150,12 @@ TEST_CASE("CSV: the header once, one row per region, empty cells for what is mis
     REQUIRE(rows.size() == 1 + 2 * 2);
     CHECK(rows[0] ==
           "frame,timestamp_ns,lens_value,lens_unit,width,height,col,row,x,y,w,h,sharpness,"
-          "edge_width_px,blur_sigma_px,blur_width_px,confidence,status,reason");
+          "edge_width_px,blur_sigma_px,blur_width_px,mtf50_cy_px,mtf50p_cy_px,confidence,status,"
+          "reason");
     // No lens: its two cells empty; no edge: the three blur cells empty.
-    CHECK(rows[1] == "7,1500000000,,,640,480,0,0,0,0,320,480,0.5,1.75,0.5,2.5,0.875,ok,");
-    CHECK(rows[2] == "7,1500000000,,,640,480,1,0,320,0,320,480,0.125,,,,0,ok,");
+    CHECK(rows[1] ==
+          "7,1500000000,,,640,480,0,0,0,0,320,480,0.5,1.75,0.5,2.5,0.3125,0.375,0.875,ok,");
+    CHECK(rows[2] == "7,1500000000,,,640,480,1,0,320,0,320,480,0.125,,,,,,0,ok,");
     CHECK(rows[3] == rows[1]);
     // A dark region: no score, no blur, its status and reason.
     FrameAnalysis a = twoRegions();
@@ -154,7 +164,7 @@ TEST_CASE("CSV: the header once, one row per region, empty cells for what is mis
     std::ostringstream dark;
     writeAnalysisCsv(dark, a, false);
     CHECK(lines(dark.str())[1] ==
-          "7,1500000000,,,640,480,1,0,320,0,320,480,,,,,,dark,dark: mean 0.10");
+          "7,1500000000,,,640,480,1,0,320,0,320,480,,,,,,,,dark,dark: mean 0.10");
 }
 
 TEST_CASE("JSONL: a dark region and a black frame have null scores and say why") {

@@ -3,6 +3,7 @@
 // into an EdgeMeasurement; an edge found before measured again where it was (BlurTracker).
 #include <numbers>
 
+#include "infocus/sfr.h"
 #include "internal.h"
 
 namespace infocus::blur_detail {
@@ -42,6 +43,22 @@ EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, const BinLi
     const double bend = relativeBend(straight, sd);
     const double over = f.overshoot / 0.25;
     m.quality = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend - over * over);
+    if (o.sfr) {
+        // The line spread for the SFR from the same bins, in light, about the fit's centroid
+        // and between its plateaus; the window is sized by the wide window's spread, so flare
+        // lowers the SFR. Its transform is taken only if the edge sets its region's blur.
+        const EsfProfile p{{bins.pos.data(), bins.size},
+                           {bins.value.data(), bins.size},
+                           {bins.withinVar.data(), bins.size},
+                           f.mean,
+                           sd,
+                           f.profileLo,
+                           f.profileLo + f.profileContrast,
+                           o.binPx,
+                           0.5 * o.binPx - patch.hw};
+        if (auto l = lineSpreadOf(p))
+            m.lineSpread = std::make_shared<const LineSpread>(std::move(*l));
+    }
     return m;
 }
 

@@ -212,6 +212,9 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
     if (!setup) return out;
     const RegionSetup& s = *setup;
     const Kernels kernels = chooseKernels(options);
+    // Whether the edges agree is asked while searching: their SFR is not needed for that.
+    BlurOptions noSfr = options;
+    noSfr.sfr = false;
     // The 64 strongest candidates first. A region without an edge yet whose candidates were all
     // passed over or covered (crossed by many lines stronger than its edges: traces, wires, text)
     // lists the next, weaker ones, four times as many each time. Equal gradients keep their scan
@@ -237,8 +240,7 @@ std::vector<EdgeMeasurement> measureEdgesPrefetching(const Luma8& luma, const Re
             // Where fewer than three of its edges agree (blurFromEdges), one segment or two may
             // set the region, and one alone is never confident: it measures as many again, once.
             // On dense texture that doubles the regions whose blur two edges or more agree on.
-            if (most == options.maxEdges && haveUsable &&
-                blurFromEdges(out, options).edgeCount < 3) {
+            if (most == options.maxEdges && haveUsable && blurFromEdges(out, noSfr).edgeCount < 3) {
                 most = std::min(2 * options.maxEdges, kMaxEdgesPerRegion);
                 if (most > options.maxEdges) continue;
             }
@@ -325,7 +327,7 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
     // than sampling scatters them.
     const auto spread = [](double sigma) { return std::sqrt(sigma * sigma + kPixelVariance); };
     const double sharpestSpread = spread(sharpest);
-    double sw = 0, sv = 0, sr = 0, sh = 0, shw = 0, sRank = 0;
+    double sw = 0, sv = 0, sr = 0, sh = 0, shw = 0, sRank = 0, sm = 0, smp = 0, smw = 0;
     int agreeing = 0;
     bool measuredRise = true;
     for (const Ranked& g : good) {
@@ -337,6 +339,10 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
         if (e->contrast >= kCleanCnr * std::max(e->noise, 0.5) && e->sigmaPx <= kHaloSigmaPx)
             sh += e->quality * e->haloFraction, shw += e->quality;
         sRank += g.rank;
+        if (options.sfr && e->lineSpread)
+            if (const auto m = mtf50Of(*e->lineSpread))
+                sm += e->quality * m->mtf50CyPx, smp += e->quality * m->mtf50pCyPx,
+                    smw += e->quality;
         measuredRise = measuredRise && e->riseMeasured;
         ++agreeing;
     }
@@ -357,6 +363,7 @@ BlurEstimate blurFromEdges(const std::vector<EdgeMeasurement>& edges, const Blur
             *est.discDiameterPx, (1.0 + kDiscRiseSlack) * *est.edgeWidthPx / kDiscRisePerDiameter);
     est.edgeCount = agreeing;
     if (shw > 0) est.haloFraction = sh / shw;
+    if (smw > 0) est.mtf50CyPx = sm / smw, est.mtf50pCyPx = smp / smw;
     // Confidence: mean rank of the agreeing edges, more edges better, discounted by the
     // share of edges that disagree with them (mixed widths: soft objects or several depths).
     // One segment alone cannot tell the blur from its own softness or from a neighbour's light
@@ -378,7 +385,13 @@ using namespace blur_detail;
 std::vector<EdgeMeasurement> measureEdges(const Luma8& luma, const Rect& roi,
                                           const BlurOptions& options) {
     RowPrefetcher none;
-    return measureEdgesPrefetching(luma, roi, sanitized(options), none);
+    std::vector<EdgeMeasurement> edges =
+        measureEdgesPrefetching(luma, roi, sanitized(options), none);
+    for (EdgeMeasurement& e : edges)
+        if (e.lineSpread)
+            if (const auto m = mtf50Of(*e.lineSpread))
+                e.mtf50CyPx = m->mtf50CyPx, e.mtf50pCyPx = m->mtf50pCyPx;
+    return edges;
 }
 
 BlurEstimate measureBlur(const Luma8& luma, const Rect& roi, const BlurOptions& options) {

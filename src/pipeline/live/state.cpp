@@ -42,6 +42,7 @@ void fillRegionsAndOptics(const FrameAnalysis& a, const LiveOptions& o,
         lr.sharpness = r.sharpness;
         lr.blurPx = r.blurWidthPx;
         lr.confidence = r.confidence;
+        lr.mtf50CyPx = r.mtf50CyPx, lr.mtf50pCyPx = r.mtf50pCyPx;
         lr.status = r.status;
         cols = std::max(cols, r.col + 1);
         rows = std::max(rows, r.row + 1);
