@@ -10,6 +10,7 @@
 
 #include <httplib.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -53,12 +54,43 @@ std::string makeToken() {
     return hex;
 }
 
-// Compares in time independent of where the strings differ.
-bool sameToken(std::string_view a, std::string_view b) {
-    unsigned diff = a.size() != b.size();
-    for (size_t i = 0; i < a.size() && i < b.size(); ++i)
-        diff |= static_cast<unsigned>(a[i] ^ b[i]);
-    return diff == 0;
+// Headers on every answer, errors included: nothing is cached (the state and the token's URL
+// change), a browser never guesses a type, no other site may frame or read the answers (no
+// Access-Control-Allow-Origin is ever sent) and no Referer carries the token's URL elsewhere.
+constexpr const char* kCsp = "Content-Security-Policy";
+constexpr const char* kBlankCsp =
+    "default-src 'none'; base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
+
+httplib::Headers defaultHeaders() {
+    return {{"Cache-Control", "no-store"},
+            {"X-Content-Type-Options", "nosniff"},
+            {"Referrer-Policy", "no-referrer"},
+            {"X-Frame-Options", "DENY"},
+            {kCsp, kBlankCsp}};
+}
+
+// The page's policy: its own script and style only, the inline loader by its hash (no
+// 'unsafe-inline'), pictures from the server and the blobs the page makes of them, requests to
+// this server only.
+std::string pagePolicy() {
+    std::string scripts = "'self'";
+    for (const web::PageAsset& a : web::pageAssets()) {
+        if (std::string_view(a.path) != "/") continue;
+        const std::string_view html(reinterpret_cast<const char*>(a.data), a.size);
+        for (size_t at = html.find("<script>"); at != std::string_view::npos;
+             at = html.find("<script>", at)) {
+            at += 8;
+            const size_t end = html.find("</script>", at);
+            if (end == std::string_view::npos) break;
+            const auto digest = web::sha256(html.substr(at, end - at));
+            scripts += " 'sha256-" +
+                       web::base64({reinterpret_cast<const char*>(digest.data()), digest.size()}) +
+                       "'";
+        }
+    }
+    return "default-src 'none'; script-src " + scripts +
+           "; style-src 'self'; img-src 'self' blob: data:; connect-src 'self'; "
+           "base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
 }
 
 // The first non-loopback IPv4 address of this machine, for the URL of a wildcard listener.
@@ -108,6 +140,7 @@ public:
             static_cast<size_t>(options_.maxStreams + options_.maxEventClients + 8);
         server_.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
         server_.set_payload_max_length(options_.maxBodyBytes);
+        server_.set_default_headers(defaultHeaders());
         server_.set_read_timeout(2, 0);
         server_.set_write_timeout(2, 0);
         // An idle kept-alive connection holds a thread; a short wait keeps stop() prompt.
@@ -172,12 +205,11 @@ private:
 
     // Before any route: the token, the Host of a token-less loopback server, the method.
     HR gate(const httplib::Request& req, httplib::Response& res) {
-        res.set_header("Cache-Control", "no-store");
         if (!token_.empty()) {
             std::string given = req.get_param_value("token");
             const std::string auth = req.get_header_value("Authorization");
             if (given.empty() && auth.rfind("Bearer ", 0) == 0) given = auth.substr(7);
-            if (!sameToken(given, token_)) {
+            if (!web::sameSecret(given, token_)) {
                 res.status = 401;
                 res.set_content(errorJson("a missing or wrong token; open the URL infocus live "
                                           "printed, with its ?token="),
@@ -213,7 +245,9 @@ private:
     void routes() {
         for (const web::PageAsset& a : web::pageAssets()) {
             methods_[a.path] = "GET";
-            server_.Get(a.path, [a](const httplib::Request&, httplib::Response& res) {
+            server_.Get(a.path, [this, a](const httplib::Request&, httplib::Response& res) {
+                res.headers.erase(kCsp);
+                res.set_header(kCsp, pagePolicy_);
                 res.set_content(reinterpret_cast<const char*>(a.data), a.size, a.contentType);
             });
         }
@@ -348,6 +382,7 @@ private:
     int port_ = 0;
     web::FrameHub hub_;
     std::map<std::string, std::string> methods_;  ///< known path → its method
+    const std::string pagePolicy_ = pagePolicy();
     httplib::Server server_;
     std::thread listener_;
 };
