@@ -36,6 +36,7 @@ constexpr const char* kBoundary = "infocusframe";
 // How often a waiting stream looks at its socket and at stop(): the bound on a clean stop.
 constexpr auto kPoll = 100ms;
 constexpr auto kPingInterval = 10s;
+constexpr int kKeepAliveRequests = 5;  // the library's limit of requests on one connection
 
 // 128 random bits as hex, from the kernel (getrandom), else std::random_device.
 std::string makeToken() {
@@ -92,6 +93,55 @@ std::string pagePolicy() {
            "; style-src 'self'; img-src 'self' blob: data:; connect-src 'self'; "
            "base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
 }
+
+// cpp-httplib's server with what its public interface lacks: one request answered from any
+// Stream (the request fuzzer's way in).
+class HttpServer final : public httplib::Server {
+public:
+    bool answer(httplib::Stream& stream, bool lastRequest, bool& closed) {
+        return process_request(stream, lastRequest, closed, nullptr);
+    }
+};
+
+// One connection held in memory: reads come from the bytes given, writes are kept. Writing ends
+// after kMaxBytes or kMaxTime so that a stream's answer (MJPEG, events) ends too.
+class MemoryStream final : public httplib::Stream {
+public:
+    explicit MemoryStream(std::string_view in) : in_(in) {}
+    bool is_readable() const override { return pos_ < in_.size(); }
+    bool is_writable() const override {
+        return out_.size() < kMaxBytes && std::chrono::steady_clock::now() - start_ < kMaxTime;
+    }
+    ssize_t read(char* ptr, size_t size) override {
+        size = std::min(size, in_.size() - pos_);
+        std::memcpy(ptr, in_.data() + pos_, size);
+        pos_ += size;
+        return static_cast<ssize_t>(size);
+    }
+    ssize_t write(const char* ptr, size_t size) override {
+        if (!is_writable()) return -1;
+        out_.append(ptr, size);
+        return static_cast<ssize_t>(size);
+    }
+    void get_remote_ip_and_port(std::string& ip, int& port) const override {
+        ip = "127.0.0.1";
+        port = 40000;
+    }
+    void get_local_ip_and_port(std::string& ip, int& port) const override {
+        ip = "127.0.0.1";
+        port = 8080;
+    }
+    socket_t socket() const override { return INVALID_SOCKET; }
+    const std::string& written() const { return out_; }
+
+private:
+    static constexpr size_t kMaxBytes = 1 << 20;
+    static constexpr auto kMaxTime = 50ms;
+    std::string_view in_;
+    size_t pos_ = 0;
+    std::string out_;
+    const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
 
 // The first non-loopback IPv4 address of this machine, for the URL of a wildcard listener.
 std::string firstOutsideAddress() {
@@ -199,6 +249,17 @@ public:
 
     int port() const override { return port_; }
     std::string token() const override { return token_; }
+
+    // The requests in @p bytes as one connection's, answered without a socket (answerBytes).
+    std::string answerBytes(std::string_view bytes) {
+        MemoryStream stream(bytes);
+        // As many requests as a kept-alive connection may carry.
+        for (int i = 0; i < kKeepAliveRequests && stream.is_readable(); ++i) {
+            bool closed = false;
+            if (!server_.answer(stream, i + 1 == kKeepAliveRequests, closed) || closed) break;
+        }
+        return stream.written();
+    }
 
 private:
     using HR = httplib::Server::HandlerResponse;
@@ -383,7 +444,7 @@ private:
     web::FrameHub hub_;
     std::map<std::string, std::string> methods_;  ///< known path → its method
     const std::string pagePolicy_ = pagePolicy();
-    httplib::Server server_;
+    HttpServer server_;
     std::thread listener_;
 };
 
@@ -421,6 +482,10 @@ Result<ListenAddress> parseListenAddress(std::string_view text) {
     }
     a.host = host;
     return a;
+}
+
+std::string answerBytes(WebServer& server, std::string_view bytes) {
+    return static_cast<WebServerImpl&>(server).answerBytes(bytes);
 }
 
 Result<std::unique_ptr<WebServer>> WebServer::start(LivePipeline& pipeline,
