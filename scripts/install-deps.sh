@@ -10,6 +10,7 @@ pkgs=(meson ninja-build pkg-config g++ clang-format
 	chromium chromium-driver python3-selenium
 	libsdl2-dev libimgui-dev xvfb x11-apps imagemagick
 	clang libclang-rt-dev) # clang: the fuzzers (scripts/fuzz.sh) and --sanitize=clang
+pkgs+=(gnuplot-nox)  # tests only: scripts/soak.sh plots its samples (suite soak)
 if [[ "${1:-}" == "--vm" ]]; then
 	pkgs+=(qemu-system-x86 linux-image-amd64 busybox-static v4l-utils cpio
 		linux-source-6.1 libcamera-ipa libcamera-tools udev xz-utils make bc
