@@ -14,7 +14,11 @@ cd "$here" || exit 1
 seconds=${1:-60}
 shift $(($# > 0 ? 1 : 0))
 harnesses=("$@")
-[[ ${#harnesses[@]} -gt 0 ]] || harnesses=(y4m recording jsonl options image luma)
+if [[ ${#harnesses[@]} -eq 0 ]]; then
+	harnesses=(y4m recording jsonl options image luma)
+	# The web view's harness exists only where the web face is built (cpp-httplib).
+	pkg-config --exists cpp-httplib 2>/dev/null && harnesses+=(http)
+fi
 jobs=${FUZZ_JOBS:-1}
 niceness=${FUZZ_NICE:-0}
 builddir=build-fuzz

@@ -27,6 +27,8 @@ pkgs+=(libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev
 	gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good)
 # Tests only: focusmeter's bus read from Python.
 test_pkgs+=(python3-gi gir1.2-gstreamer-1.0 gir1.2-gst-plugins-base-1.0)
+# Tests only: scripts/soak.sh plots its samples.
+test_pkgs+=(gnuplot-nox)
 for arg in "$@"; do
 	case $arg in
 	--test) pkgs+=("${test_pkgs[@]}") ;;

@@ -6,6 +6,8 @@ read from stderr, every endpoint, the bad requests, the token, the client bounds
 usage: test_web.py INFOCUS HAVE_WEB(true|false)
 Exits 77 when infocus was built without the web view.
 """
+import base64
+import hashlib
 import http.client
 import json
 import os
@@ -321,6 +323,112 @@ def test_endpoints():
     check(rc == 0 and took < 3.0, 'SIGINT: exit 0 in %.2f s (< 3 s, pipeline included)' % took)
 
 
+def raw_request(live, data):
+    """Sends DATA as it is and returns (status, headers as a list of (name, value)) or None."""
+    with socket.create_connection((live.host, live.port), timeout=10) as sk:
+        sk.sendall(data)
+        sk.shutdown(socket.SHUT_WR)
+        got = b''
+        while b'\r\n\r\n' not in got:
+            chunk = sk.recv(4096)
+            if not chunk:
+                break
+            got += chunk
+    head = got.split(b'\r\n\r\n', 1)[0].decode('latin-1').split('\r\n')
+    if not head[0].startswith('HTTP/'):
+        return None
+    headers = [tuple(x.strip() for x in line.split(':', 1)) for line in head[1:] if ':' in line]
+    return int(head[0].split()[1]), headers
+
+
+def csp_directives(value):
+    out = {}
+    for part in value.split(';'):
+        words = part.split()
+        if words:
+            out[words[0]] = words[1:]
+    return out
+
+
+def test_headers():
+    # What a browser needs from a local control page: a strict policy on the page, no type
+    # guessing, nothing cached, and no answer readable by another origin (no CORS).
+    live = Live('sim:size=320x240')
+    live.wait_state(lambda s: True)
+    status, _, html = live.get('/')
+    scripts = re.findall(rb'<script>(.*?)</script>', html, re.S)
+    hashes = ["'sha256-%s'" % base64.b64encode(hashlib.sha256(x).digest()).decode()
+              for x in scripts]
+    origin = {'Origin': 'http://evil.example'}
+    json_ctype = dict(origin, **{'Content-Type': 'application/json'})
+    answers = {
+        'GET /': live.request('GET', '/', headers=origin),
+        'GET /app.js': live.request('GET', '/app.js', headers=origin),
+        'GET /style.css': live.request('GET', '/style.css', headers=origin),
+        'GET /state': live.request('GET', '/state', headers=origin),
+        'HEAD /state': live.request('HEAD', '/state', headers=origin),
+        'POST /control ok': live.request('POST', '/control', '{"reset_peak": true}', json_ctype),
+        'POST /control 400': live.request('POST', '/control', '{"nope": 1}', json_ctype),
+        'POST /control 415': live.request('POST', '/control', '{}', origin),
+        'GET /control 405': live.request('GET', '/control', headers=origin),
+        'OPTIONS /control': live.request('OPTIONS', '/control', headers=dict(
+            origin, **{'Access-Control-Request-Method': 'POST',
+                       'Access-Control-Request-Headers': 'content-type'})),
+        'GET /nope 404': live.request('GET', '/nope', headers=origin),
+        'GET /peaking.png 404': live.request('GET', '/peaking.png', headers=origin),
+        'Host 403': live.request('GET', '/state', headers={'Host': 'evil.example'}),
+    }
+    for name, (status, h, _) in answers.items():
+        check(h.get('x-content-type-options') == 'nosniff',
+              '%s (%d): X-Content-Type-Options: nosniff' % (name, status))
+        check(h.get('cache-control') == 'no-store', '%s (%d): Cache-Control: no-store' %
+              (name, status))
+        check(not any(k.startswith('access-control-') for k in h),
+              '%s (%d): no Access-Control-* header (%s)' %
+              (name, status, [k for k in h if k.startswith('access-control-')]))
+        check('content-security-policy' in h, '%s (%d): a Content-Security-Policy' %
+              (name, status))
+    check(answers['OPTIONS /control'][0] in (404, 405),
+          'a CORS preflight to /control is refused (%d)' % answers['OPTIONS /control'][0])
+    # The page's policy: nothing by default, its own script and style, the inline loader by
+    # its hash only, no eval, no plugins, no framing, requests to this server only.
+    page = csp_directives(answers['GET /'][1].get('content-security-policy', ''))
+    check(page.get('default-src') == ["'none'"], "page CSP: default-src 'none' (%s)" % page)
+    script = page.get('script-src', [])
+    check(sorted(script) == sorted(["'self'"] + hashes),
+          "page CSP: script-src 'self' and the inline loader's SHA-256 %s (%s)" % (hashes, script))
+    loose = [(d, w) for d, ws in page.items() for w in ws
+             if w in ("'unsafe-inline'", "'unsafe-eval'", '*', 'http:', 'https:') or
+             (w in ('data:', 'blob:') and d != 'img-src')]
+    check(not loose, 'page CSP: no unsafe-inline, unsafe-eval, wildcard or scheme source but '
+          'pictures from data: and blob: (%s)' % loose)
+    for d, want in (('style-src', ["'self'"]), ('connect-src', ["'self'"]),
+                    ('frame-ancestors', ["'none'"]), ('base-uri', ["'none'"]),
+                    ('form-action', ["'none'"])):
+        check(page.get(d) == want, 'page CSP: %s %s (%s)' % (d, ' '.join(want), page.get(d)))
+    other = csp_directives(answers['GET /state'][1].get('content-security-policy', ''))
+    check(other.get('default-src') == ["'none'"] and other.get('frame-ancestors') == ["'none'"],
+          "/state CSP: default-src 'none', frame-ancestors 'none' (%s)" % other)
+    # Each header once, on answers to requests the library's parser refuses too.
+    for name, data in (('a request line of junk', b'\x16\x03\x01 nonsense\r\n\r\n'),
+                       ('a header line past the limit',
+                        b'GET /state HTTP/1.1\r\nHost: 127.0.0.1\r\nX: ' + b'a' * 9000 +
+                        b'\r\n\r\n'),
+                       ('a valid request', b'GET /state HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n')):
+        got = raw_request(live, data)
+        if got is None:
+            check(True, '%s: the connection closed without an answer' % name)
+            continue
+        status, headers = got
+        names = [k.lower() for k, _ in headers]
+        for want in ('x-content-type-options', 'cache-control', 'content-security-policy'):
+            check(names.count(want) == 1, '%s (%d): %s sent once (%d)' %
+                  (name, status, want, names.count(want)))
+        check('access-control-allow-origin' not in names,
+              '%s (%d): no Access-Control-Allow-Origin' % (name, status))
+    live.stop()
+
+
 def test_no_motor():
     # A Y4M file: no lens motor, so focus commands are a conflict.
     with tempfile.TemporaryDirectory() as d:
@@ -483,6 +591,7 @@ def main():
         sys.exit(77)
     test_cli_errors()
     test_endpoints()
+    test_headers()
     test_no_motor()
     test_token()
     test_sixteen_clients()

@@ -6,13 +6,23 @@
 #include <arpa/inet.h>
 #include <ifaddrs.h>
 #include <netinet/in.h>
+#include <poll.h>
+#include <sys/epoll.h>
+#include <sys/eventfd.h>
 #include <sys/random.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <httplib.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <deque>
+#include <functional>
 #include <map>
 #include <random>
 #include <thread>
@@ -35,6 +45,8 @@ constexpr const char* kBoundary = "infocusframe";
 // How often a waiting stream looks at its socket and at stop(): the bound on a clean stop.
 constexpr auto kPoll = 100ms;
 constexpr auto kPingInterval = 10s;
+constexpr int kBacklog = 1024;         // connections the kernel holds before accept()
+constexpr int kKeepAliveRequests = 5;  // the library's limit of requests on one connection
 
 // 128 random bits as hex, from the kernel (getrandom), else std::random_device.
 std::string makeToken() {
@@ -53,13 +65,427 @@ std::string makeToken() {
     return hex;
 }
 
-// Compares in time independent of where the strings differ.
-bool sameToken(std::string_view a, std::string_view b) {
-    unsigned diff = a.size() != b.size();
-    for (size_t i = 0; i < a.size() && i < b.size(); ++i)
-        diff |= static_cast<unsigned>(a[i] ^ b[i]);
-    return diff == 0;
+// Headers on every answer, errors included: nothing is cached (the state and the token's URL
+// change), a browser never guesses a type, no other site may frame or read the answers (no
+// Access-Control-Allow-Origin is ever sent) and no Referer carries the token's URL elsewhere.
+constexpr const char* kCsp = "Content-Security-Policy";
+constexpr const char* kBlankCsp =
+    "default-src 'none'; base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
+
+httplib::Headers defaultHeaders() {
+    return {{"Cache-Control", "no-store"},
+            {"X-Content-Type-Options", "nosniff"},
+            {"Referrer-Policy", "no-referrer"},
+            {"X-Frame-Options", "DENY"},
+            {kCsp, kBlankCsp}};
 }
+
+// The page's policy: its own script and style only, the inline loader by its hash (no
+// 'unsafe-inline'), pictures from the server and the blobs the page makes of them, requests to
+// this server only.
+std::string pagePolicy() {
+    std::string scripts = "'self'";
+    for (const web::PageAsset& a : web::pageAssets()) {
+        if (std::string_view(a.path) != "/") continue;
+        const std::string_view html(reinterpret_cast<const char*>(a.data), a.size);
+        for (size_t at = html.find("<script>"); at != std::string_view::npos;
+             at = html.find("<script>", at)) {
+            at += 8;
+            const size_t end = html.find("</script>", at);
+            if (end == std::string_view::npos) break;
+            const auto digest = web::sha256(html.substr(at, end - at));
+            scripts += " 'sha256-" +
+                       web::base64({reinterpret_cast<const char*>(digest.data()), digest.size()}) +
+                       "'";
+        }
+    }
+    return "default-src 'none'; script-src " + scripts +
+           "; style-src 'self'; img-src 'self' blob: data:; connect-src 'self'; "
+           "base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
+}
+
+// How long a connection may wait between accept() and its request: for a first byte (or the next
+// request of a kept-alive connection), and for the rest of a request once it has begun.
+constexpr auto kIdleTimeout = 1s;
+constexpr auto kRequestTimeout = 2s;
+// A worker gets a request only once it has arrived whole, so a read that has to wait is past
+// it (a body longer than the limit, which the library would read to its end): it waits this
+// long at most. And a write waits for a reader this long at most.
+constexpr auto kReadWait = 100ms;
+constexpr auto kWriteWait = 2s;
+// The waiting room's size bound, within the process's descriptor limit.
+constexpr size_t kMaxWaiting = 4096;
+// How much of a waiting request is looked at (the library refuses longer heads).
+constexpr size_t kPeekBytes = 16384;
+
+// A connection between requests: its socket, the bytes read from it but not yet parsed, and
+// when it began to wait.
+struct Connection {
+    int fd = -1;
+    std::string buffered;
+    size_t requests = 0;
+    uint64_t ticket = 0;  // its place in the order of waiting
+    std::chrono::steady_clock::time_point waitingSince, firstByte;
+    bool begun = false;  // a byte of the next request has arrived
+    ~Connection() {
+        if (fd >= 0) {
+            ::shutdown(fd, SHUT_RDWR);
+            ::close(fd);
+        }
+    }
+};
+
+// A socket as the library's Stream: reads through the connection's buffer, and every wait in
+// slices of kPoll so that stop() ends it promptly.
+class SocketStream final : public httplib::Stream {
+public:
+    SocketStream(Connection& c, const std::atomic<bool>& stopping) : c_(c), stopping_(stopping) {}
+
+    bool is_readable() const override { return !c_.buffered.empty() || wait(POLLIN, kReadWait); }
+    bool is_writable() const override {
+        if (!wait(POLLOUT, kWriteWait)) return false;
+        // A peer that has closed reads as readable with nothing to read.
+        pollfd p{c_.fd, POLLIN, 0};
+        if (::poll(&p, 1, 0) == 1) {
+            char b;
+            if (::recv(c_.fd, &b, 1, MSG_PEEK | MSG_DONTWAIT) == 0) return false;
+        }
+        return true;
+    }
+    ssize_t read(char* ptr, size_t size) override {
+        if (c_.buffered.empty()) {
+            if (!wait(POLLIN, kReadWait)) return -1;
+            char chunk[4096];
+            const ssize_t n = ::recv(c_.fd, chunk, sizeof chunk, MSG_DONTWAIT);
+            if (n <= 0) return n;
+            c_.buffered.assign(chunk, static_cast<size_t>(n));
+        }
+        size = std::min(size, c_.buffered.size());
+        std::memcpy(ptr, c_.buffered.data(), size);
+        c_.buffered.erase(0, size);
+        return static_cast<ssize_t>(size);
+    }
+    ssize_t write(const char* ptr, size_t size) override {
+        size_t done = 0;
+        while (done < size) {
+            if (!wait(POLLOUT, kWriteWait)) return -1;
+            const ssize_t n = ::send(c_.fd, ptr + done, size - done, MSG_NOSIGNAL | MSG_DONTWAIT);
+            if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) continue;
+            if (n <= 0) return -1;
+            done += static_cast<size_t>(n);
+        }
+        return static_cast<ssize_t>(size);
+    }
+    void get_remote_ip_and_port(std::string& ip, int& port) const override {
+        address(false, ip, port);
+    }
+    void get_local_ip_and_port(std::string& ip, int& port) const override {
+        address(true, ip, port);
+    }
+    socket_t socket() const override { return c_.fd; }
+
+private:
+    // Waits up to @p limit for @p events, in slices, until stop().
+    bool wait(short events, std::chrono::milliseconds limit) const {
+        const auto end = std::chrono::steady_clock::now() + limit;
+        while (!stopping_.load()) {
+            pollfd p{c_.fd, events, 0};
+            const int r = ::poll(&p, 1, static_cast<int>(kPoll.count()));
+            if (r > 0) return (p.revents & (events | POLLHUP | POLLERR)) != 0;
+            if (r < 0 && errno != EINTR) return false;
+            if (std::chrono::steady_clock::now() >= end) return false;
+        }
+        return false;
+    }
+    void address(bool local, std::string& ip, int& port) const {
+        sockaddr_storage a{};
+        socklen_t len = sizeof a;
+        auto* sa = reinterpret_cast<sockaddr*>(&a);
+        if ((local ? ::getsockname(c_.fd, sa, &len) : ::getpeername(c_.fd, sa, &len)) != 0) return;
+        char host[INET6_ADDRSTRLEN] = "";
+        if (a.ss_family == AF_INET) {
+            const auto* in = reinterpret_cast<const sockaddr_in*>(&a);
+            inet_ntop(AF_INET, &in->sin_addr, host, sizeof host);
+            port = ntohs(in->sin_port);
+        } else if (a.ss_family == AF_INET6) {
+            const auto* in = reinterpret_cast<const sockaddr_in6*>(&a);
+            inet_ntop(AF_INET6, &in->sin6_addr, host, sizeof host);
+            port = ntohs(in->sin6_port);
+        }
+        ip = host;
+    }
+
+    Connection& c_;
+    const std::atomic<bool>& stopping_;
+};
+
+// Whether @p bytes hold a whole request head, and its body when it announces a length of at most
+// @p maxBody (a longer one is refused by the library at once, from the head alone).
+bool wholeRequest(std::string_view bytes, size_t maxBody) {
+    const size_t head = bytes.find("\r\n\r\n");
+    if (head == std::string_view::npos) return bytes.size() >= kPeekBytes;
+    std::string lower(bytes.substr(0, head));
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+    const size_t at = lower.find("\ncontent-length:");
+    if (at == std::string::npos) return true;
+    const size_t length = std::strtoull(lower.c_str() + at + 16, nullptr, 10);
+    return length > maxBody || bytes.size() >= head + 4 + length || bytes.size() >= kPeekBytes;
+}
+
+// Connections from accept() to their answers. A connection waits in an epoll set, holding no
+// thread, until its whole request has arrived (or it is closed for its time-out); only then does
+// a worker answer it, and a kept-alive connection returns to wait for its next request. So
+// connections that send nothing, half a request or a slow body cost a descriptor for at most
+// two seconds and never a worker, and the waiting room's bound closes the oldest waiting when a
+// flood fills it.
+class Connections {
+public:
+    // @p answer: one request of a stream, as the library answers it.
+    using Answer = std::function<bool(httplib::Stream&, bool lastRequest, bool& closed)>;
+
+    Connections(size_t workers, size_t maxBody, Answer answer)
+        : maxBody_(maxBody), answer_(std::move(answer)) {
+        rlimit files{};
+        maxWaiting_ = kMaxWaiting;
+        // Half the descriptors at most: the camera, the pipeline and the streams need theirs.
+        if (getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur != RLIM_INFINITY)
+            maxWaiting_ = std::min<size_t>(maxWaiting_, files.rlim_cur / 2);
+        epoll_ = ::epoll_create1(EPOLL_CLOEXEC);
+        waker_ = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+        epoll_event ev{};
+        ev.events = EPOLLIN;
+        ev.data.fd = waker_;
+        ::epoll_ctl(epoll_, EPOLL_CTL_ADD, waker_, &ev);
+        waiter_ = std::thread([this] { waitLoop(); });
+        for (size_t i = 0; i < workers; ++i)
+            workers_.emplace_back([this] { workLoop(); });
+    }
+
+    ~Connections() {
+        stop();
+        ::close(epoll_);
+        ::close(waker_);
+    }
+
+    // Takes a socket accept() returned.
+    void adopt(int fd) {
+        auto c = std::make_unique<Connection>();
+        c->fd = fd;
+        wait(std::move(c));
+    }
+
+    // Ends the threads and closes every connection; safe to call twice.
+    void stop() {
+        if (stopping_.exchange(true)) return;
+        const uint64_t one = 1;
+        (void)!::write(waker_, &one, sizeof one);
+        cv_.notify_all();
+        if (waiter_.joinable()) waiter_.join();
+        for (std::thread& t : workers_)
+            t.join();
+        std::lock_guard lock(mutex_);
+        waiting_.clear();
+        ready_.clear();
+    }
+
+private:
+    void wait(std::unique_ptr<Connection> c) {
+        c->waitingSince = std::chrono::steady_clock::now();
+        c->begun = !c->buffered.empty();
+        c->firstByte = c->waitingSince;
+        // A pipelined request already read needs no wait.
+        if (!c->buffered.empty() && wholeRequest(c->buffered, maxBody_))
+            return dispatch(std::move(c));
+        std::lock_guard lock(mutex_);
+        if (stopping_.load()) return;
+        // The one that has waited longest is the likeliest to send nothing.
+        while (waiting_.size() >= maxWaiting_ && !order_.empty()) {
+            const auto [ticket, fd] = order_.front();
+            order_.pop_front();
+            auto it = waiting_.find(fd);
+            if (it == waiting_.end() || it->second->ticket != ticket) continue;
+            ::epoll_ctl(epoll_, EPOLL_CTL_DEL, fd, nullptr);
+            waiting_.erase(it);
+        }
+        c->ticket = ++tickets_;
+        order_.emplace_back(c->ticket, c->fd);
+        epoll_event ev{};
+        ev.events = EPOLLIN | EPOLLRDHUP | EPOLLET;
+        ev.data.fd = c->fd;
+        if (::epoll_ctl(epoll_, EPOLL_CTL_ADD, c->fd, &ev) != 0) return;  // closes it
+        const int fd = c->fd;
+        waiting_[fd] = std::move(c);
+    }
+
+    void dispatch(std::unique_ptr<Connection> c) {
+        {
+            std::lock_guard lock(mutex_);
+            if (stopping_.load()) return;
+            ready_.push_back(std::move(c));
+        }
+        cv_.notify_one();
+    }
+
+    // Whether the connection's request is whole (or it has ended: the library then answers what
+    // came, or nothing); false leaves it waiting.
+    bool ready(Connection& c) {
+        char peek[kPeekBytes];
+        const ssize_t n = ::recv(c.fd, peek, sizeof peek, MSG_PEEK | MSG_DONTWAIT);
+        if (n == 0) return true;
+        if (n < 0) return errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR;
+        if (!c.begun) {
+            c.begun = true;
+            c.firstByte = std::chrono::steady_clock::now();
+        }
+        if (c.buffered.empty())
+            return wholeRequest(std::string_view(peek, static_cast<size_t>(n)), maxBody_);
+        return wholeRequest(c.buffered + std::string(peek, static_cast<size_t>(n)), maxBody_);
+    }
+
+    void waitLoop() {
+        epoll_event events[64];
+        auto lastSweep = std::chrono::steady_clock::now();
+        while (!stopping_.load()) {
+            const int n = ::epoll_wait(epoll_, events, 64, static_cast<int>(kPoll.count()));
+            for (int i = 0; i < n; ++i) {
+                const int fd = events[i].data.fd;
+                if (fd == waker_) continue;
+                std::unique_ptr<Connection> c;
+                {
+                    std::lock_guard lock(mutex_);
+                    auto it = waiting_.find(fd);
+                    if (it == waiting_.end() || !ready(*it->second)) continue;
+                    ::epoll_ctl(epoll_, EPOLL_CTL_DEL, fd, nullptr);
+                    c = std::move(it->second);
+                    waiting_.erase(it);
+                }
+                dispatch(std::move(c));
+            }
+            const auto now = std::chrono::steady_clock::now();
+            if (now - lastSweep < kPoll) continue;
+            lastSweep = now;
+            std::lock_guard lock(mutex_);
+            // The order keeps only what may still wait: the front has left, or is the oldest.
+            while (!order_.empty()) {
+                auto it = waiting_.find(order_.front().second);
+                if (it != waiting_.end() && it->second->ticket == order_.front().first) break;
+                order_.pop_front();
+            }
+            for (auto it = waiting_.begin(); it != waiting_.end();) {
+                const Connection& c = *it->second;
+                const bool late = c.begun ? now - c.firstByte > kRequestTimeout
+                                          : now - c.waitingSince > kIdleTimeout;
+                if (!late) {
+                    ++it;
+                    continue;
+                }
+                ::epoll_ctl(epoll_, EPOLL_CTL_DEL, it->first, nullptr);
+                it = waiting_.erase(it);
+            }
+        }
+    }
+
+    void workLoop() {
+        for (;;) {
+            std::unique_ptr<Connection> c;
+            {
+                std::unique_lock lock(mutex_);
+                cv_.wait(lock, [this] { return stopping_.load() || !ready_.empty(); });
+                if (stopping_.load()) return;
+                c = std::move(ready_.front());
+                ready_.pop_front();
+            }
+            SocketStream stream(*c, stopping_);
+            bool closed = false;
+            const bool last = ++c->requests >= static_cast<size_t>(kKeepAliveRequests);
+            const bool ok = answer_(stream, last, closed);
+            if (ok && !closed && !last && !stopping_.load()) wait(std::move(c));
+        }
+    }
+
+    const size_t maxBody_;
+    const Answer answer_;
+    size_t maxWaiting_;
+    int epoll_ = -1, waker_ = -1;
+    std::atomic<bool> stopping_{false};
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    std::map<int, std::unique_ptr<Connection>> waiting_;
+    std::deque<std::unique_ptr<Connection>> ready_;
+    std::deque<std::pair<uint64_t, int>> order_;  // (ticket, fd) in the order they began to wait
+    uint64_t tickets_ = 0;
+    std::thread waiter_;
+    std::vector<std::thread> workers_;
+};
+
+// Runs each accepted socket's job at once on the accepting thread: the job only hands the
+// socket to Connections, which owns every thread that answers.
+class HandOver final : public httplib::TaskQueue {
+public:
+    void enqueue(std::function<void()> job) override { job(); }
+    void shutdown() override {}
+};
+
+// cpp-httplib's server with what its public interface lacks: the listen backlog, which the
+// library leaves at 5 (a burst of connections would wait for SYN retries, a second and more),
+// accepted sockets handed to Connections instead of a thread each, and one request answered
+// from any Stream (Connections' and the request fuzzer's way in).
+class HttpServer final : public httplib::Server {
+public:
+    bool widenBacklog(int backlog) { return ::listen(svr_sock_, backlog) == 0; }
+    bool answer(httplib::Stream& stream, bool lastRequest, bool& closed) {
+        return process_request(stream, lastRequest, closed, nullptr);
+    }
+    void handTo(Connections* connections) { connections_ = connections; }
+
+private:
+    bool process_and_close_socket(socket_t sock) override {
+        connections_->adopt(sock);
+        return true;
+    }
+    Connections* connections_ = nullptr;
+};
+
+// One connection held in memory: reads come from the bytes given, writes are kept. Writing ends
+// after kMaxBytes or kMaxTime so that a stream's answer (MJPEG, events) ends too.
+class MemoryStream final : public httplib::Stream {
+public:
+    explicit MemoryStream(std::string_view in) : in_(in) {}
+    bool is_readable() const override { return pos_ < in_.size(); }
+    bool is_writable() const override {
+        return out_.size() < kMaxBytes && std::chrono::steady_clock::now() - start_ < kMaxTime;
+    }
+    ssize_t read(char* ptr, size_t size) override {
+        size = std::min(size, in_.size() - pos_);
+        std::memcpy(ptr, in_.data() + pos_, size);
+        pos_ += size;
+        return static_cast<ssize_t>(size);
+    }
+    ssize_t write(const char* ptr, size_t size) override {
+        if (!is_writable()) return -1;
+        out_.append(ptr, size);
+        return static_cast<ssize_t>(size);
+    }
+    void get_remote_ip_and_port(std::string& ip, int& port) const override {
+        ip = "127.0.0.1";
+        port = 40000;
+    }
+    void get_local_ip_and_port(std::string& ip, int& port) const override {
+        ip = "127.0.0.1";
+        port = 8080;
+    }
+    socket_t socket() const override { return INVALID_SOCKET; }
+    const std::string& written() const { return out_; }
+
+private:
+    static constexpr size_t kMaxBytes = 1 << 20;
+    static constexpr auto kMaxTime = 50ms;
+    std::string_view in_;
+    size_t pos_ = 0;
+    std::string out_;
+    const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
 
 // The first non-loopback IPv4 address of this machine, for the URL of a wildcard listener.
 std::string firstOutsideAddress() {
@@ -102,16 +528,10 @@ public:
     ~WebServerImpl() override { stop(); }
 
     Status listen() {
-        // Every stream and event client holds a thread; a few more keep /state and the page
-        // answering while all stream slots are taken.
-        const size_t threads =
-            static_cast<size_t>(options_.maxStreams + options_.maxEventClients + 8);
-        server_.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+        server_.new_task_queue = [] { return new HandOver; };
+        server_.handTo(&connections_);
         server_.set_payload_max_length(options_.maxBodyBytes);
-        server_.set_read_timeout(2, 0);
-        server_.set_write_timeout(2, 0);
-        // An idle kept-alive connection holds a thread; a short wait keeps stop() prompt.
-        server_.set_keep_alive_timeout(1);
+        server_.set_default_headers(defaultHeaders());
         server_.set_pre_routing_handler(
             [this](const httplib::Request& req, httplib::Response& res) { return gate(req, res); });
         server_.set_error_handler(httplib::Server::HandlerWithResponse(
@@ -141,6 +561,8 @@ public:
                                  "or an address of this machine",
                              err);
         }
+        // A failure leaves the library's backlog: the server works, a flood waits longer.
+        (void)server_.widenBacklog(kBacklog);
         listener_ = std::thread([this] { server_.listen_after_bind(); });
         // stop() only reaches a server that is running: wait for it (a bound socket starts at
         // once) so an early stop cannot leave the listener behind.
@@ -153,6 +575,7 @@ public:
         hub_.stop();
         if (server_.is_running() || listener_.joinable()) server_.stop();
         if (listener_.joinable()) listener_.join();
+        connections_.stop();
     }
 
     std::string url() const override {
@@ -167,17 +590,27 @@ public:
     int port() const override { return port_; }
     std::string token() const override { return token_; }
 
+    // The requests in @p bytes as one connection's, answered without a socket (answerBytes).
+    std::string answerBytes(std::string_view bytes) {
+        MemoryStream stream(bytes);
+        // As many requests as a kept-alive connection may carry.
+        for (int i = 0; i < kKeepAliveRequests && stream.is_readable(); ++i) {
+            bool closed = false;
+            if (!server_.answer(stream, i + 1 == kKeepAliveRequests, closed) || closed) break;
+        }
+        return stream.written();
+    }
+
 private:
     using HR = httplib::Server::HandlerResponse;
 
     // Before any route: the token, the Host of a token-less loopback server, the method.
     HR gate(const httplib::Request& req, httplib::Response& res) {
-        res.set_header("Cache-Control", "no-store");
         if (!token_.empty()) {
             std::string given = req.get_param_value("token");
             const std::string auth = req.get_header_value("Authorization");
             if (given.empty() && auth.rfind("Bearer ", 0) == 0) given = auth.substr(7);
-            if (!sameToken(given, token_)) {
+            if (!web::sameSecret(given, token_)) {
                 res.status = 401;
                 res.set_content(errorJson("a missing or wrong token; open the URL infocus live "
                                           "printed, with its ?token="),
@@ -213,7 +646,9 @@ private:
     void routes() {
         for (const web::PageAsset& a : web::pageAssets()) {
             methods_[a.path] = "GET";
-            server_.Get(a.path, [a](const httplib::Request&, httplib::Response& res) {
+            server_.Get(a.path, [this, a](const httplib::Request&, httplib::Response& res) {
+                res.headers.erase(kCsp);
+                res.set_header(kCsp, pagePolicy_);
                 res.set_content(reinterpret_cast<const char*>(a.data), a.size, a.contentType);
             });
         }
@@ -348,7 +783,15 @@ private:
     int port_ = 0;
     web::FrameHub hub_;
     std::map<std::string, std::string> methods_;  ///< known path → its method
-    httplib::Server server_;
+    const std::string pagePolicy_ = pagePolicy();
+    HttpServer server_;
+    // Every stream and event client holds a worker; a few more answer /state and the page
+    // while all stream slots are taken.
+    Connections connections_{
+        static_cast<size_t>(options_.maxStreams + options_.maxEventClients + 8),
+        options_.maxBodyBytes, [this](httplib::Stream& s, bool last, bool& closed) {
+            return server_.answer(s, last, closed);
+        }};
     std::thread listener_;
 };
 
@@ -386,6 +829,10 @@ Result<ListenAddress> parseListenAddress(std::string_view text) {
     }
     a.host = host;
     return a;
+}
+
+std::string answerBytes(WebServer& server, std::string_view bytes) {
+    return static_cast<WebServerImpl&>(server).answerBytes(bytes);
 }
 
 Result<std::unique_ptr<WebServer>> WebServer::start(LiveView& pipeline, const WebOptions& options) {

@@ -20,6 +20,10 @@ struct ControlReply {
 /// its lens (focus commands are refused with 409 otherwise).
 ControlReply runControl(std::string_view body, LiveControls& controls, bool hasFocusControl);
 
+/// Whether @p given equals the secret @p expected, in a time that depends neither on their
+/// contents nor on where they differ: both become SHA-256 digests, compared in all 32 bytes.
+bool sameSecret(std::string_view given, std::string_view expected);
+
 /// {"error": message} as one line of JSON.
 std::string errorJson(std::string_view message);
 
