@@ -63,14 +63,14 @@ double halfCrossing(M m, double step) {
 
 // What the MTF50 of @p psf says: the σ of the Gaussian and the diameter of the uniform disc with
 // that MTF50, and the 10–90 % rise of the family of the core (Gaussian 2.5631 σ, disc 0.68705 d).
-struct Mtf50 {
+struct PsfMtf50 {
     double f50, sigma, disc, rise;
 };
 
-Mtf50 mtf50(const synth::Psf& psf) {
+PsfMtf50 psfMtf50(const synth::Psf& psf) {
     const double spread = psf.sigmaPx();
     const double f50 = halfCrossing([&](double f) { return mtf(psf, f); }, 0.02 / spread);
-    Mtf50 m{f50, 0, 0, 0};
+    PsfMtf50 m{f50, 0, 0, 0};
     m.sigma = std::sqrt(std::log(2.0) / 2.0) / (kPi * f50);  // exp(−2π²σ²f²) = ½
     // 2 J1(x)/x = ½ at x = π d f50.
     const double x50 =
@@ -102,9 +102,9 @@ int frameFor(double spreadPx) {
 TEST_CASE("MTF50 helper: the ideal PSFs give back their own size", "[blur][flare]") {
     // The reference itself: a Gaussian's MTF50 gives its σ, a uniform disc's its diameter, and
     // d = 0.7051 / f50 (2 J1(π d f)/(π d f) = ½), within 0.1 %.
-    const Mtf50 g = mtf50(synth::Psf::gaussian(2.0));
+    const PsfMtf50 g = psfMtf50(synth::Psf::gaussian(2.0));
     CHECK(g.sigma == Approx(2.0).epsilon(1e-3));
-    const Mtf50 d = mtf50(synth::Psf::disc(10.0));
+    const PsfMtf50 d = psfMtf50(synth::Psf::disc(10.0));
     CHECK(d.disc == Approx(10.0).epsilon(1e-3));
     CHECK(d.f50 * 10.0 == Approx(0.7051).epsilon(1e-3));
 }
@@ -127,7 +127,7 @@ TEST_CASE("flare: edges read their core and agree with MTF50", "[blur][flare]") 
                     const synth::Psf psf = synth::Psf::withFlare(core, h, scale);
                     const bool gauss = core.shape == synth::PsfShape::Gaussian;
                     const BlurEstimate b = readEdge(psf, angle, seed++, frameFor(core.sigmaPx()));
-                    const Mtf50 m = mtf50(psf);
+                    const PsfMtf50 m = psfMtf50(psf);
                     INFO((gauss ? "sigma " : "disc ") << core.sizePx << ", halo " << h * 100
                                                       << " %, " << scale << "x, angle " << angle);
                     REQUIRE(b.sigmaPx.has_value());
@@ -175,7 +175,7 @@ TEST_CASE("spherical aberration: disc and rise agree with MTF50", "[blur][flare]
                 const synth::Psf psf =
                     synth::Psf::withFlare(synth::Psf::aberratedDisc(d, k), h, 10.0);
                 const BlurEstimate b = readEdge(psf, angle, seed++, frameFor(psf.sigmaPx()));
-                const Mtf50 m = mtf50(psf);
+                const PsfMtf50 m = psfMtf50(psf);
                 INFO("d " << d << ", k " << k << ", halo " << h * 100 << " %, angle " << angle);
                 REQUIRE(b.discDiameterPx.has_value());
                 REQUIRE(b.edgeWidthPx.has_value());

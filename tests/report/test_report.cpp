@@ -74,8 +74,19 @@ TEST_CASE("report: depth of field matches the thin-lens model's reference values
     a.width = 640;
     a.height = 480;
     a.metric = "teng";
-    a.regions.push_back(
-        {0, 0, {0, 0, 640, 480}, 1.0, 1.0, 0.5, 2.0, 0.9, std::nullopt, RegionStatus::Ok, {}});
+    a.regions.push_back({0,
+                         0,
+                         {0, 0, 640, 480},
+                         1.0,
+                         1.0,
+                         0.5,
+                         2.0,
+                         std::nullopt,
+                         std::nullopt,
+                         0.9,
+                         std::nullopt,
+                         RegionStatus::Ok,
+                         {}});
     ReportOptions o;
     o.optics.lens = optics::ThinLens{50e-3, 8.0};
     o.optics.pixelPitch = 15e-6;
