@@ -17,8 +17,8 @@
 #include "infocus/error.h"
 #include "infocus/image.h"
 #include "infocus/optics.h"
-#include "infocus/stack.h"
 #include "infocus/qa.h"
+#include "infocus/stack.h"
 
 namespace infocus {
 

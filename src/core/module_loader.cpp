@@ -23,6 +23,18 @@ std::string executableDir() {
     return slash == std::string::npos ? std::string() : exe.substr(0, slash);
 }
 
+// The folder of the binary this code is part of: the executable, or a library that holds
+// infocus (the Python module, the GStreamer plugin), which a host program loaded.
+std::string ownDir() {
+    Dl_info info{};
+    if (::dladdr(reinterpret_cast<void*>(&ownDir), &info) == 0 || !info.dli_fname) return {};
+    char buf[PATH_MAX];
+    if (!::realpath(info.dli_fname, buf)) return {};
+    const std::string own(buf);
+    const size_t slash = own.rfind('/');
+    return slash == std::string::npos ? std::string() : own.substr(0, slash);
+}
+
 bool isFile(const std::string& path) {
     struct stat st;
     return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
@@ -33,12 +45,14 @@ bool isFile(const std::string& path) {
 std::vector<std::string> moduleSearchPath(const std::string& buildSubdir) {
     if (const char* dir = std::getenv("INFOCUS_MODULE_DIR"); dir && *dir) return {dir};
     std::vector<std::string> path;
-    const std::string exeDir = executableDir();
+    const std::string exeDir = executableDir(), libDir = ownDir();
     if (!exeDir.empty()) path.push_back(exeDir);
-    // An executable of the build tree (the CLI, a test) uses the modules built beside it, not
-    // those of an older installation.
+    if (!libDir.empty() && libDir != exeDir) path.push_back(libDir);
+    // A binary of the build tree (the CLI, a test, the Python module) uses the modules built
+    // beside it, not those of an older installation.
     const std::string buildRoot = INFOCUS_BUILD_ROOT;
-    if (exeDir.rfind(buildRoot + "/", 0) == 0) path.push_back(buildRoot + "/" + buildSubdir);
+    const auto inBuild = [&](const std::string& dir) { return dir.rfind(buildRoot + "/", 0) == 0; };
+    if (inBuild(exeDir) || inBuild(libDir)) path.push_back(buildRoot + "/" + buildSubdir);
     path.push_back(INFOCUS_MODULE_DIR);
     return path;
 }

@@ -15,8 +15,9 @@ namespace infocus {
 
 /// Folders searched for a module built in folder @p buildSubdir of the build tree
 /// ("replay/decoders"), in order: only $INFOCUS_MODULE_DIR when it is set; otherwise the folder
-/// of the running executable, that build folder when the executable lies in the build tree, and
-/// the installed module folder.
+/// of the running executable, the folder of the library holding this code when a host program
+/// loaded one (the Python module, the GStreamer plugin), that build folder when either lies in
+/// the build tree, and the installed module folder.
 std::vector<std::string> moduleSearchPath(const std::string& buildSubdir);
 
 /// Loads the module @p fileName (e.g. "infocus-decoders.so") from the first folder of
