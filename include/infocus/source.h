@@ -54,6 +54,14 @@ public:
     virtual Status set(double value) = 0;
     /// Frames to discard after a move before a frame shows the new position.
     virtual int settleFrames() const = 0;
+    /// Frames to discard after a move from @p from to @p to (native unit) before a delivered
+    /// frame shows the lens at rest there: travel, settling and the frames already in flight.
+    /// Controls without a model of their lens's travel answer settleFrames().
+    virtual int framesToSettle(double from, double to) const {
+        (void)from;
+        (void)to;
+        return settleFrames();
+    }
 };
 
 /// What a camera format, a file or a recording says of how its grey levels encode light.
