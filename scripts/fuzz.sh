@@ -58,9 +58,13 @@ run() {  # run HARNESS: one harness, its summary line to $results/HARNESS
 	echo "fuzz_$h: ${execs:-0} executions (up to ${seconds} s), cov ${cov:-?}, ft ${ft:-?}, findings: ${finding:-exit $rc} ($builddir/fuzz-$h.log)"
 }
 
+# The modules a harness loads at run time, which building the harness alone leaves out: the
+# web view's harness streams from the simulated camera and encodes pictures.
+declare -A modules=([http]="replay/infocus-sim.so src/imaging/infocus-imaging.so")
 running=0
 for h in "${harnesses[@]}"; do
-	ninja -C "$builddir" "tests/fuzz/fuzz_$h" "tests/fuzz/fuzz_${h}_replay" >/dev/null ||
+	# shellcheck disable=SC2086 # the module list splits into targets
+	ninja -C "$builddir" "tests/fuzz/fuzz_$h" "tests/fuzz/fuzz_${h}_replay" ${modules[$h]:-} >/dev/null ||
 		{ echo "$h 0 - - 0 build-failed 1" >"$results/$h"; continue; }
 	run "$h" &
 	running=$((running + 1))
