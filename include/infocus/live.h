@@ -40,6 +40,29 @@ std::string_view peakingModeName(PeakingMode m);
 /// Parses a peaking mode name; ErrorKind::Usage naming the choices otherwise.
 Result<PeakingMode> parsePeakingMode(std::string_view name);
 
+/// Whether autofocus runs once on request or keeps the subject in focus.
+enum class LiveAutofocusMode { Off, Once, Continuous };
+
+/// What autofocus is doing: reading the blur and choosing a side (probing), moving to the
+/// predicted focus, refining near it, done (focused), keeping focus (holding, continuous), or
+/// given up (failed, with the reason).
+enum class LiveAutofocusState { Idle, Probing, Moving, Refining, Focused, Holding, Failed };
+
+/// The mode's name in the state JSON and on the command line: "off", "once", "continuous".
+std::string_view liveAutofocusModeName(LiveAutofocusMode m);
+/// The mode named @p name as liveAutofocusModeName writes it; a Usage error naming the choices.
+Result<LiveAutofocusMode> parseLiveAutofocusMode(std::string_view name);
+/// The state's name in the state JSON: "idle", "probing", ... as in LiveAutofocusState.
+std::string_view liveAutofocusStateName(LiveAutofocusState s);
+
+/// Autofocus as the faces show it.
+struct LiveAutofocus {
+    LiveAutofocusMode mode = LiveAutofocusMode::Off;
+    LiveAutofocusState state = LiveAutofocusState::Idle;
+    int frames = 0;      ///< frames captured since the command (the last run's, once it ended)
+    std::string reason;  ///< what it is doing or why it stopped, for people
+};
+
 /// The optics a live view may know: with them blur reads in µm, against the circle of confusion
 /// and the diffraction floor, and the depth of field and the in-focus plane follow.
 struct LiveLens {
@@ -142,7 +165,8 @@ struct LiveState {
     std::optional<double> inFocusDistanceM;  ///< distance in focus (∞ = inf), when known
     bool hasFocusControl = false;
     std::optional<FocusRange> focusRange;
-    bool autofocusRunning = false;
+    bool autofocusRunning = false;  ///< a one-shot autofocus runs (autofocus.mode == Once)
+    LiveAutofocus autofocus;
     std::string status;  ///< the last control's outcome or a warning, for a status line
 
     // Pictures (only with LiveOptions::previewLongSide > 0).
@@ -156,10 +180,10 @@ struct LiveState {
 /// The state as the JSON object of `live --ui json` and the web view's /state (one line, no
 /// newline): frame, source, sequence, live_camera, fps, dropped, skipped, latency_p50_ms,
 /// latency_p99_ms, score, peak, percent_of_peak, trend, past_peak, blur_px, blur_um,
-/// lens_position, in_focus_distance_m, has_focus_control, focus_range, coc_px, diffraction_px,
-/// regions_in_coc, dof_near_m, dof_far_m, in_focus_line, tilt_deg, history, grid, regions,
-/// peaking, roi, magnifier and preview; each region carries its heat class (src/live/present.h).
-/// Unknown values are null; an infinite distance is "inf".
+/// lens_position, in_focus_distance_m, has_focus_control, autofocus_running, autofocus,
+/// focus_range, coc_px, diffraction_px, regions_in_coc, dof_near_m, dof_far_m, in_focus_line,
+/// tilt_deg, history, grid, regions, peaking, roi, magnifier and preview; each region carries its
+/// heat class (src/live/present.h). Unknown values are null; an infinite distance is "inf".
 std::string liveStateJson(const LiveState& s);
 
 /// Controls every face uses. Safe to call from any thread; each returns at once and reports
@@ -171,8 +195,10 @@ public:
     virtual Status focusStep(int steps) = 0;
     /// Moves the lens to @p value in the control's native unit (clamped to its range).
     virtual Status focusTo(double value) = 0;
-    /// Starts a one-shot autofocus (a focus sweep) while the state keeps flowing.
+    /// Starts a one-shot autofocus from the subject's blur width while the state keeps flowing.
     virtual Status autofocus() = 0;
+    /// Turns continuous autofocus on or off.
+    virtual Status setContinuousAutofocus(bool on) = 0;
     /// Forgets the peak, the history's peak and the past-peak cue.
     virtual void resetPeak() = 0;
     /// Scores this region instead of the whole frame; nullopt: the whole frame.

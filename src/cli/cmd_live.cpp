@@ -30,6 +30,7 @@ struct LiveArgs {
     std::string metric;
     std::string transfer = "linear";
     std::string peaking = "off";
+    std::string af = "off";
     bool noBlur = false;
     bool centreWeighted = false;
     std::optional<double> seconds;
@@ -90,9 +91,22 @@ Result<LiveOptions> liveOptions(const LiveArgs& args) {
     return o;
 }
 
+// Starts the autofocus --af asks for; an error names the option.
+Status startAutofocus(LiveAutofocusMode mode, LiveControls& controls) {
+    Status st;
+    if (mode == LiveAutofocusMode::Once) st = controls.autofocus();
+    if (mode == LiveAutofocusMode::Continuous) st = controls.setContinuousAutofocus(true);
+    if (!st)
+        return makeError(st.error().kind, "--af " + std::string(liveAutofocusModeName(mode)) +
+                                              ": " + st.error().message);
+    return st;
+}
+
 int runLive(const LiveArgs& args) {
     auto options = liveOptions(args);
     if (!options) return reportError(kName, options.error());
+    auto af = parseLiveAutofocusMode(args.af);
+    if (!af) return reportError(kName, makeError(ErrorKind::Usage, "--af: " + af.error().message));
     const std::string ui =
         args.ui.empty() ? defaultFace(isatty(STDOUT_FILENO) && isatty(STDIN_FILENO)) : args.ui;
     auto choice = parseFaces(ui);
@@ -116,6 +130,10 @@ int runLive(const LiveArgs& args) {
     sigaction(SIGTERM, &sa, nullptr);
 
     if (Status st = p.start(); !st) return reportError(kName, st.error());
+    if (Status st = startAutofocus(*af, p); !st) {
+        p.stop();
+        return reportError(kName, st.error());
+    }
     RunLimits limits;
     limits.seconds = args.seconds;
     if (args.frames > 0) limits.frames = args.frames;
@@ -171,6 +189,10 @@ Command addLiveCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--peaking", args->peaking, "Peaking mask: off, coc or percentile")
         ->capture_default_str();
+    sub->add_option("--af", args->af,
+                    "Autofocus at start: once (from the blur width), continuous (keep the "
+                    "subject in focus) or off")
+        ->capture_default_str();
     sub->add_flag("--no-blur", args->noBlur, "Sharpness only: skip the blur-width measurement");
     sub->add_flag("--centre-weighted", args->centreWeighted,
                   "Weight the whole-frame score towards the centre");
@@ -186,6 +208,7 @@ Command addLiveCommand(CLI::App& app) {
         "Examples:\n"
         "  infocus live\n"
         "  infocus live sim:focal=16mm,fnumber=1.4,distance=1m,focus=0.5m --ui json --seconds 6\n"
+        "  infocus live sim:focal=16mm,fnumber=1.4,distance=1m,focus=0.5m --af once --ui json\n"
         "  infocus live /dev/video0 --lens rpi-cam3 --coc-px 2\n"
         "  infocus live /dev/video0 --ui web --listen 0.0.0.0:8080");
     return {sub, [args] { return runLive(*args); }};

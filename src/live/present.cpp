@@ -17,10 +17,11 @@ std::string format(const char* fmt, double v) {
     return buf;
 }
 
-constexpr std::array<KeyBinding, 8> kBindings = {{
+constexpr std::array<KeyBinding, 9> kBindings = {{
     {"←/→", Action::FocusUp, "move the lens one step down / up its range"},
     {"Shift ←/→", Action::FocusUpFast, "ten steps"},
     {"a", Action::Autofocus, "autofocus"},
+    {"c", Action::ToggleContinuous, "continuous autofocus on ↔ off"},
     {"r", Action::ResetPeak, "forget the peak"},
     {"g", Action::NextGrid, "grid 16×9 → 8×6 → 4×3"},
     {"p", Action::NextPeaking, "peaking off → coc → percentile"},
@@ -90,6 +91,16 @@ std::string distanceText(std::optional<double> metres) {
     return metres ? distanceText(*metres) : std::string("—");
 }
 
+std::string autofocusText(const LiveAutofocus& af) {
+    const std::string state(liveAutofocusStateName(af.state));
+    if (af.state == LiveAutofocusState::Failed) return "AF failed: " + af.reason;
+    if (af.mode == LiveAutofocusMode::Continuous) return "AF continuous: " + state;
+    if (af.mode == LiveAutofocusMode::Off && af.state == LiveAutofocusState::Idle) return "";
+    if (af.state == LiveAutofocusState::Focused)
+        return "AF focused in " + std::to_string(af.frames) + " frames";
+    return "AF " + state + " · " + std::to_string(af.frames) + " frames";
+}
+
 std::span<const KeyBinding> keyBindings() {
     return kBindings;
 }
@@ -112,6 +123,8 @@ Action actionForKey(Key key, char ch) {
     switch (ch) {
         case 'a':
             return Action::Autofocus;
+        case 'c':
+            return Action::ToggleContinuous;
         case 'r':
             return Action::ResetPeak;
         case 'g':
@@ -140,6 +153,9 @@ Status apply(Action action, LiveControls& controls, const LiveState* state) {
             return controls.focusStep(10);
         case Action::Autofocus:
             return controls.autofocus();
+        case Action::ToggleContinuous:
+            return controls.setContinuousAutofocus(
+                !(state && state->autofocus.mode == LiveAutofocusMode::Continuous));
         case Action::ResetPeak:
             controls.resetPeak();
             return {};

@@ -48,6 +48,10 @@ std::string distanceText(double metres);
 /// distanceText, or "—" when @p metres is empty.
 std::string distanceText(std::optional<double> metres);
 
+/// Autofocus in a few words for a status line: "" when off and idle; "AF moving · 4 frames",
+/// "AF focused in 7 frames", "AF continuous: holding", "AF failed: <reason>".
+std::string autofocusText(const LiveAutofocus& af);
+
 /// What a key asks of the live view. Quit and ToggleMagnifier are the face's own to carry out.
 enum class Action {
     None,
@@ -57,6 +61,7 @@ enum class Action {
     FocusDownFast,  ///< ten steps down
     FocusUpFast,    ///< ten steps up
     Autofocus,
+    ToggleContinuous,  ///< continuous autofocus on ↔ off
     ResetPeak,
     NextGrid,
     NextPeaking,

@@ -51,6 +51,10 @@ std::string liveStateJson(const LiveState& s) {
     }
     j["in_focus_distance_m"] = number(s.inFocusDistanceM);
     j["autofocus_running"] = s.autofocusRunning;
+    j["autofocus"] = {{"mode", liveAutofocusModeName(s.autofocus.mode)},
+                      {"state", liveAutofocusStateName(s.autofocus.state)},
+                      {"frames", s.autofocus.frames},
+                      {"reason", s.autofocus.reason}};
     j["has_focus_control"] = s.hasFocusControl;
     if (s.focusRange)
         j["focus_range"] = {{"min", s.focusRange->min},

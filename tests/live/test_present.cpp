@@ -25,6 +25,10 @@ public:
         calls.push_back("autofocus");
         return makeError(ErrorKind::Unsupported, "no lens motor");
     }
+    Status setContinuousAutofocus(bool on) override {
+        calls.push_back(on ? "continuous on" : "continuous off");
+        return {};
+    }
     void resetPeak() override { calls.push_back("reset"); }
     Status setScoreRoi(std::optional<Rect>) override { return {}; }
     Status setMagnifier(std::optional<std::array<int, 3>>) override { return {}; }

@@ -33,6 +33,10 @@ public:
         calls.push_back("autofocus");
         return makeError(ErrorKind::Unsupported, "autofocus is already running");
     }
+    Status setContinuousAutofocus(bool on) override {
+        calls.push_back(on ? "continuous on" : "continuous off");
+        return {};
+    }
     void resetPeak() override { calls.push_back("reset"); }
     Status setScoreRoi(std::optional<Rect> roi) override {
         calls.push_back(roi ? "roi " + std::to_string(roi->w) : std::string("roi none"));
@@ -85,6 +89,7 @@ public:
     Status focusStep(int) override { return {}; }
     Status focusTo(double) override { return {}; }
     Status autofocus() override { return {}; }
+    Status setContinuousAutofocus(bool) override { return {}; }
     void resetPeak() override {}
     Status setScoreRoi(std::optional<Rect>) override { return {}; }
     Status setMagnifier(std::optional<std::array<int, 3>>) override { return {}; }
@@ -151,6 +156,13 @@ TEST_CASE("control commands reach the controls, or say what is wrong with them")
     CHECK(run(R"({"autofocus": true})").httpStatus == 409);
     CHECK(run(R"({"focus_step": 1})", false).httpStatus == 409);
     CHECK(run(R"({"autofocus": true})", false).httpStatus == 409);
+    CHECK(run(R"({"autofocus": "continuous"})", false).httpStatus == 409);
+
+    // Continuous focus switches on and off by name.
+    c.calls.clear();
+    CHECK(run(R"({"autofocus": "continuous"})").httpStatus == 200);
+    CHECK(run(R"({"autofocus": "off"})").httpStatus == 200);
+    CHECK(c.calls == std::vector<std::string>{"continuous on", "continuous off"});
 
     // Malformed bodies never reach the controls.
     c.calls.clear();
@@ -158,7 +170,7 @@ TEST_CASE("control commands reach the controls, or say what is wrong with them")
          {"", "not json", "[]", "{}", R"({"focus_step": 1, "focus": 2})", R"({"focus_step": 1.5})",
           R"({"focus_step": 99999999999})", R"({"focus": "near"})", R"({"roi": [1, 2, 3]})",
           R"({"grid": "16x9"})", R"({"peaking": "on"})", R"({"reset_peak": 1})",
-          R"({"autofocus": false})", R"({"launch": true})"}) {
+          R"({"autofocus": false})", R"({"autofocus": "sometimes"})", R"({"launch": true})"}) {
         INFO(bad);
         const web::ControlReply r = run(bad);
         CHECK(r.httpStatus == 400);

@@ -35,6 +35,11 @@ public:
         afUntil_ = t_ + 1.5;
         return {};
     }
+    Status setContinuousAutofocus(bool on) override {
+        std::lock_guard lock(m_);
+        continuous_ = on;
+        return {};
+    }
     void resetPeak() override {
         std::lock_guard lock(m_);
         peak_ = 0.0;
@@ -119,7 +124,14 @@ public:
         s->inFocusDistanceM = lensD_ > 0 ? 1.0 / lensD_ : INFINITY;
         s->hasFocusControl = true;
         s->autofocusRunning = t < afUntil_;
-        s->status = s->autofocusRunning ? "autofocus: sweeping" : "ready";
+        s->autofocus.mode = continuous_           ? LiveAutofocusMode::Continuous
+                            : s->autofocusRunning ? LiveAutofocusMode::Once
+                                                  : LiveAutofocusMode::Off;
+        s->autofocus.state = continuous_           ? LiveAutofocusState::Holding
+                             : s->autofocusRunning ? LiveAutofocusState::Moving
+                                                   : LiveAutofocusState::Idle;
+        s->autofocus.frames = s->autofocusRunning ? static_cast<int>((t - afUntil_ + 1.5) * 30) : 0;
+        s->status = s->autofocusRunning ? "autofocus: moving" : "ready";
         return s;
     }
 
@@ -131,6 +143,7 @@ private:
     mutable double lensD_ = 2.0;
     mutable double peak_ = 0.0;
     double afUntil_ = -1.0;
+    bool continuous_ = false;
     int cols_ = 16, rows_ = 9;
     mutable std::vector<HistoryPoint> history_;
 };

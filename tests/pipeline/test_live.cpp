@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <thread>
 
 #include "infocus/live.h"
@@ -90,6 +91,39 @@ TEST_CASE("autofocus through the live controls lands on the plane") {
     CHECK(settled->lens->dioptres.value() == Approx(1.0).margin(0.02));
     REQUIRE(settled->inFocusDistanceM);
     CHECK(*settled->inFocusDistanceM == Approx(1.0).margin(0.021));
+    // The state says how it ended and what it cost, from the blur width (not the scan).
+    CHECK(settled->autofocus.mode == LiveAutofocusMode::Once);
+    CHECK(settled->autofocus.state == LiveAutofocusState::Focused);
+    CHECK(settled->autofocus.frames >= 2);
+    CHECK(settled->autofocus.reason.find("scan") == std::string::npos);
+    p->stop();
+}
+
+TEST_CASE("continuous autofocus holds a still subject without hunting") {
+    auto p = openLive();
+    REQUIRE(p->setContinuousAutofocus(true));
+    // Manual moves wait while it owns the lens; a second start is refused.
+    CHECK_FALSE(p->focusStep(1));
+    CHECK_FALSE(p->autofocus());
+    // The first seconds bring the plane into focus; then, over 3 s of a still scene, the lens
+    // moves at most once a second.
+    std::this_thread::sleep_for(4s);
+    const auto states = nextStates(*p, 90);
+    int moves = 0;
+    double first = states.front()->lens.value().value, previous = first;
+    for (const auto& s : states) {
+        REQUIRE(s->lens);
+        if (std::abs(s->lens->value - previous) > 1e-9) ++moves;
+        previous = s->lens->value;
+        CHECK(s->autofocus.mode == LiveAutofocusMode::Continuous);
+    }
+    const double seconds = states.back()->elapsedS - states.front()->elapsedS;
+    std::printf("continuous autofocus on a still plane: %d lens moves in %.1f s, lens %.3f dpt\n",
+                moves, seconds, previous);
+    CHECK(moves <= std::max(1.0, std::ceil(seconds)));
+    CHECK(previous == Approx(1.0).margin(0.05));
+    REQUIRE(p->setContinuousAutofocus(false));
+    CHECK(p->focusStep(1));
     p->stop();
 }
 

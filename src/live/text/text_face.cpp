@@ -29,6 +29,7 @@ std::string textLine(const LiveState& s) {
                   static_cast<unsigned long long>(s.dropped),
                   static_cast<unsigned long long>(s.skipped), s.latencyP50Ms, s.latencyP99Ms);
     line += buf;
+    if (const std::string af = present::autofocusText(s.autofocus); !af.empty()) line += "  " + af;
     if (!s.status.empty()) line += "  (" + s.status + ")";
     return line;
 }

@@ -163,11 +163,13 @@ std::string lensLine(const LiveState& s) {
         out += format("%g", s.lens->value) + " " + s.lens->unit;
         if (s.lens->dioptres) out += format(" (%.2f D)", *s.lens->dioptres);
     }
-    if (s.autofocusRunning) {
+    const std::string af = present::autofocusText(s.autofocus);
+    if (s.autofocusRunning && af.empty()) {
         out += "   autofocus…";
     } else if (s.inFocusDistanceM) {
         out += "   in focus at " + present::distanceText(*s.inFocusDistanceM);
     }
+    if (!af.empty()) out += "   " + af;
     return out;
 }
 

@@ -95,9 +95,19 @@ ControlReply runControl(std::string_view body, LiveControls& controls, bool hasF
         return fromStatus(controls.focusTo(v.get<double>()), field, "focus moved");
     }
     if (field == "autofocus") {
-        if (v != true) return bad(field, "send {\"autofocus\": true}");
+        // true (or "once") starts one autofocus; "continuous" and "off" switch continuous focus.
+        std::optional<LiveAutofocusMode> parsed;
+        if (v == true) parsed = LiveAutofocusMode::Once;
+        if (v.is_string())
+            if (auto m = parseLiveAutofocusMode(v.get<std::string>())) parsed = *m;
+        if (!parsed)
+            return bad(field, "send {\"autofocus\": true}, or \"once\", \"continuous\" or \"off\"");
         if (!hasFocusControl) return noLens(field);
-        return fromStatus(controls.autofocus(), field, "autofocus started");
+        if (*parsed == LiveAutofocusMode::Once)
+            return fromStatus(controls.autofocus(), field, "autofocus started");
+        const bool on = *parsed == LiveAutofocusMode::Continuous;
+        return fromStatus(controls.setContinuousAutofocus(on), field,
+                          on ? "continuous autofocus on" : "continuous autofocus off");
     }
     if (field == "reset_peak") {
         if (v != true) return bad(field, "send {\"reset_peak\": true}");

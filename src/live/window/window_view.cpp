@@ -249,7 +249,8 @@ void drawPanel(const LiveState* s, const PanelNotes& notes, float windowW, float
         row("lens", s->hasFocusControl ? "-" : "no focus control");
     }
     row("in focus at", present::distanceText(s->inFocusDistanceM));
-    if (s->autofocusRunning) ImGui::TextColored(ImVec4(1, 0.85f, 0.2f, 1), "autofocus running…");
+    if (const std::string af = present::autofocusText(s->autofocus); !af.empty())
+        ImGui::TextColored(ImVec4(1, 0.85f, 0.2f, 1), "%s", af.c_str());
 
     ImGui::Separator();
     std::string blur = s->blurPx ? fmt("%.2f px", *s->blurPx) : "-";
@@ -285,7 +286,8 @@ void drawPanel(const LiveState* s, const PanelNotes& notes, float windowW, float
             notes.status.empty() ? ImVec4(0.8f, 0.8f, 0.8f, 1) : ImVec4(1, 0.4f, 0.3f, 1), "%s",
             status.c_str());
     ImGui::TextDisabled(
-        "wheel or ←/→ focus (Shift ×10) · a autofocus · r reset peak · g grid · p peaking · "
+        "wheel or ←/→ focus (Shift ×10) · a autofocus · c continuous AF · r reset peak · g grid · "
+        "p peaking · "
         "m zoom 1:1/2:1 · drag: ROI, click: whole frame · q quit");
     ImGui::PopTextWrapPos();
     ImGui::TextDisabled("%s", s->source.c_str());

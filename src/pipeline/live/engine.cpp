@@ -87,6 +87,7 @@ public:
             if (stopping_) return;
             stopping_ = true;
         }
+        afStop_ = true;
         cv_.notify_all();
         if (autofocus_.joinable()) autofocus_.join();
         if (capture_.joinable()) capture_.join();
@@ -134,23 +135,24 @@ public:
         return moveTo(value);
     }
 
-    Status autofocus() override {
-        if (Status st = canMove(); !st) return st;
-        std::thread finished;
+    Status autofocus() override { return startAutofocus(LiveAutofocusMode::Once); }
+
+    Status setContinuousAutofocus(bool on) override {
+        if (on) return startAutofocus(LiveAutofocusMode::Continuous);
+        std::thread running;
         {
             std::lock_guard lock(mutex_);
-            // Checked again under the lock: two faces may ask at once.
-            if (autofocusRunning_)
-                return makeError(ErrorKind::Unsupported, "autofocus is already running");
-            if (stopping_) return makeError(ErrorKind::Io, "the live view is closing");
-            finished = std::move(autofocus_);
-            autofocusRunning_ = true;
-            status_ = "autofocus: sweeping the lens";
-            autofocus_ = std::thread([this] { autofocusLoop(); });
+            if (af_.mode != LiveAutofocusMode::Continuous) return {};
+            afStop_ = true;
+            running = std::move(autofocus_);
         }
-        // The previous sweep has ended (it cleared autofocusRunning_); it is joined outside the
-        // lock, which its last step takes.
-        if (finished.joinable()) finished.join();
+        cv_.notify_all();
+        if (running.joinable()) running.join();
+        std::lock_guard lock(mutex_);
+        af_ = LiveAutofocus{};
+        af_.reason = "continuous autofocus off";
+        afActive_ = false;
+        afStop_ = false;
         return {};
     }
 
@@ -238,14 +240,46 @@ private:
 
     FocusRange range() const override { return range_; }
     int settleFrames() const override { return control_->settleFrames(); }
+    int framesToSettle(double from, double to) const override {
+        return control_->framesToSettle(from, to);
+    }
+
+    // Starts autofocus in @p mode on its own thread; one runs at a time.
+    Status startAutofocus(LiveAutofocusMode mode) {
+        if (Status st = canMove(); !st) return st;
+        std::thread finished;
+        {
+            std::lock_guard lock(mutex_);
+            // Checked again under the lock: two faces may ask at once.
+            if (afActive_) return makeError(ErrorKind::Unsupported, busyText());
+            if (stopping_) return makeError(ErrorKind::Io, "the live view is closing");
+            finished = std::move(autofocus_);
+            afActive_ = true;
+            afStop_ = false;
+            autofocusRunning_ = mode == LiveAutofocusMode::Once;
+            af_ = LiveAutofocus{mode, LiveAutofocusState::Probing, 0, "starting"};
+            autofocus_ = std::thread([this, mode] { autofocusLoop(mode); });
+        }
+        // The previous run has ended (it cleared afActive_); it is joined outside the lock,
+        // which its last step takes.
+        if (finished.joinable()) finished.join();
+        return {};
+    }
+
+    // Why the lens cannot be moved by hand or by another autofocus now; under mutex_.
+    std::string busyText() const {
+        return af_.mode == LiveAutofocusMode::Continuous
+                   ? "continuous autofocus is on; turn it off first (key c, or {\"autofocus\": "
+                     "\"off\"})"
+                   : "autofocus is running; wait for it to finish";
+    }
 
     Status canMove() {
         if (!control_)
             return makeError(ErrorKind::Unsupported,
                              "source '" + text_ + "' has no lens motor to move");
         std::lock_guard lock(mutex_);
-        if (autofocusRunning_)
-            return makeError(ErrorKind::Unsupported, "autofocus is running; wait for it to finish");
+        if (afActive_) return makeError(ErrorKind::Unsupported, busyText());
         if (analysisEnded_) return makeError(ErrorKind::Io, "the source has ended");
         return {};
     }
@@ -284,7 +318,7 @@ private:
             if (slot_) ++skipped_;
             // The serial is written under the lock, and read by controls on this thread.
             slot_ = Captured{std::move(*frame), monotonicNs(), ++captureSerial_};
-            if (autofocusRunning_) afSlot_ = *slot_;
+            if (afActive_) afSlot_ = *slot_;
             dropped_ = stats.dropped;
             cv_.notify_all();
         }
@@ -418,10 +452,12 @@ private:
         s->skipped = skipped_;
         if (afDoneAfter_ && serial > *afDoneAfter_) {
             autofocusRunning_ = false;
+            afActive_ = false;
             status_ = afResult_;
             afDoneAfter_.reset();
         }
         s->autofocusRunning = autofocusRunning_;
+        s->autofocus = af_;
         s->status = status_;
         state_ = std::move(s);
         cv_.notify_all();
@@ -459,19 +495,38 @@ private:
         return a;
     }
 
-    void autofocusLoop() {
-        const std::string msg = runAutofocus(*this, options_.analysis);
+    void autofocusLoop(LiveAutofocusMode mode) {
+        AfSetup setup;
+        {
+            std::lock_guard lock(mutex_);
+            setup.subject = scoreRoi_;
+        }
+        setup.lens = options_.lens.lens;
+        setup.pixelPitchM = options_.lens.pixelPitchM;
+        setup.cocM = options_.lens.cocM;
+        setup.analysis = options_.analysis;
+        const AfReport report = [this](const LiveAutofocus& a) {
+            std::lock_guard lock(mutex_);
+            af_ = a;
+        };
+        std::string msg;
+        if (mode == LiveAutofocusMode::Continuous) {
+            runAutofocusContinuous(*this, setup, report, afStop_);
+        } else {
+            const LiveAutofocus done = runAutofocusOnce(*this, setup, report, afStop_);
+            msg = "autofocus: " + done.reason;
+        }
         if (auto pos = lensPosition()) commanded_ = pos->value;
-        // The sweep ends with the lens at its best; the run counts as over only once a frame
-        // captured after that move (and its settling) is published, so that no state says
-        // "done" beside the lens where it was before.
-        const int settle = control_->settleFrames();
+        // The run ends with the lens at rest; it counts as over only once a frame captured
+        // after that is published, so that no state says "done" beside the lens where it was.
         std::lock_guard lock(mutex_);
         afSlot_.reset();
+        if (mode == LiveAutofocusMode::Continuous) return;  // turned off by its caller
         afResult_ = msg;
-        afDoneAfter_ = captureSerial_ + static_cast<uint64_t>(std::max(settle, 0));
+        afDoneAfter_ = captureSerial_;
         if (captureEnded_) {
             autofocusRunning_ = false;
+            afActive_ = false;
             status_ = afResult_;
             afDoneAfter_.reset();
         }
@@ -508,7 +563,10 @@ private:
     uint64_t skipped_ = 0, dropped_ = 0, damaged_ = 0;
     std::shared_ptr<const LiveState> state_;
     std::string status_;
-    bool autofocusRunning_ = false;
+    bool autofocusRunning_ = false;  // a one-shot autofocus has not ended yet
+    bool afActive_ = false;          // an autofocus thread owns the lens
+    std::atomic<bool> afStop_{false};
+    LiveAutofocus af_;
     std::optional<uint64_t> afDoneAfter_;  // the sweep has ended; frames after this one show it
     std::string afResult_;                 // its outcome, for the status once it shows
     bool resetPeak_ = false;

@@ -28,6 +28,8 @@ public:
     virtual FocusRange range() const = 0;
     /// Frames to discard after a move.
     virtual int settleFrames() const = 0;
+    /// Frames to discard after a move from @p from to @p to (FocusControl::framesToSettle).
+    virtual int framesToSettle(double from, double to) const = 0;
     /// What the source is.
     virtual SourceInfo info() const = 0;
 };

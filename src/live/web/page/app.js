@@ -19,7 +19,7 @@ const el = {
   loupeOff: $("loupe-off"), showHeat: $("show-heat"), showLine: $("show-line"),
   cue: $("cue"), pct: $("pct"), trend: $("trend"), score: $("score"), blur: $("blur"),
   history: $("history"), lens: $("lens"), focus: $("focus"), position: $("position"),
-  focusAt: $("focus-at"), af: $("af"), reset: $("reset"), grid: $("grid"),
+  focusAt: $("focus-at"), af: $("af"), afc: $("afc"), afState: $("af-state"), reset: $("reset"), grid: $("grid"),
   peaking: $("peaking"), audio: $("audio"), optics: $("optics"), dof: $("dof"),
   dofText: $("dof-text"), tilt: $("tilt"), message: $("message"), stats: $("stats"),
 };
@@ -396,6 +396,8 @@ el.focus.addEventListener("change", () => {
   send({ focus: Number(el.focus.value) });
 });
 el.af.addEventListener("click", () => send({ autofocus: true }));
+el.afc.addEventListener("click", () =>
+  send({ autofocus: el.afc.getAttribute("aria-pressed") === "true" ? "off" : "continuous" }));
 el.reset.addEventListener("click", () => send({ reset_peak: true }));
 el.grid.addEventListener("change", () => send({ grid: el.grid.value.split(",").map(Number) }));
 el.peaking.addEventListener("change", () => send({ peaking: el.peaking.value }));
@@ -417,6 +419,15 @@ function fmtDistance(m) {
   return m < 1 ? `${(m * 100).toFixed(m < 0.1 ? 1 : 0)} cm` : `${m.toFixed(m < 10 ? 2 : 0)} m`;
 }
 
+// afText says what autofocus does, as the terminal and the window say it.
+function afText(af) {
+  if (af.state === "failed") return `autofocus failed: ${af.reason}`;
+  if (af.mode === "continuous")
+    return `continuous autofocus: ${af.state}` + (af.reason ? ` (${af.reason})` : "");
+  if (af.state === "focused") return `autofocus: in focus in ${af.frames} frames`;
+  return `autofocus: ${af.state}, ${af.frames} frames`;
+}
+
 const kTrend = { sharper: "▲ sharper", worse: "▼ worse", steady: "● steady" };
 
 function updatePanel(s) {
@@ -431,8 +442,15 @@ function updatePanel(s) {
   drawHistory(s);
 
   el.lens.hidden = !s.has_focus_control;
-  el.af.disabled = !s.has_focus_control || s.autofocus_running;
+  const af = s.autofocus || { mode: "off", state: "idle", frames: 0, reason: "" };
+  const continuous = af.mode === "continuous";
+  el.af.disabled = !s.has_focus_control || s.autofocus_running || continuous;
   el.af.textContent = s.autofocus_running ? "Autofocus…" : "Autofocus";
+  el.afc.disabled = !s.has_focus_control || s.autofocus_running;
+  el.afc.setAttribute("aria-pressed", String(continuous));
+  el.afc.textContent = continuous ? "Continuous ●" : "Continuous";
+  el.afState.hidden = af.mode === "off" && af.state === "idle";
+  el.afState.textContent = afText(af);
   const fr = s.focus_range;
   if (fr) {
     el.focus.min = fr.min;
