@@ -19,6 +19,7 @@ void runAll(const BenchOptions& options, const RowSink& sink) {
     if (wanted("python")) benchPython(options, sink);
     if (wanted("live") && options.liveSeconds > 0) benchLive(options, sink);
     if (wanted("gstreamer") && options.liveSeconds > 0) benchGstreamer(options, sink);
+    if (wanted("autofocus")) benchAutofocus(options, sink);
 }
 
 double medianMs(const std::function<void()>& fn, double budgetS) {

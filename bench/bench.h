@@ -24,6 +24,17 @@ struct LiveRun {
     double cpuCores = 0.0;      ///< process CPU time over wall time during the run
 };
 
+/// The `autofocus` row: frames from the command to focus over the bench's cases, for the
+/// blur-width autofocus and the contrast-detect baseline.
+struct AutofocusRun {
+    double framesMedian = 0.0, framesWorst = 0.0;
+    double errorDptWorst = 0.0;  ///< the largest final lens error, dioptres
+    int inFocus = 0, runs = 0;   ///< runs that ended in focus, of all
+    double baselineFramesMedian = 0.0, baselineFramesWorst = 0.0;
+    double baselineErrorDptWorst = 0.0;
+    int baselineInFocus = 0;
+};
+
 /// One measured case: infocus's time per frame and, where one applies, the baseline's.
 struct BenchRow {
     std::string what;  ///< "sharpness", "blur", "mjpeg_luma", ...
@@ -39,11 +50,12 @@ struct BenchRow {
     std::optional<int> inputFrame = {};  ///< and which of its frames (0 the first)
     std::optional<int> regionsWithEdge = {};  ///< blur rows: regions whose blur was measured
     // `live` rows: ms is not set, the runs stand in its place.
-    std::string format = {};                   ///< the recording's pixel format ("YUYV", "MJPEG")
-    std::optional<double> nominalFps = {};     ///< the recording's frame rate
-    std::optional<LiveRun> live = {};          ///< infocus's measurement
-    std::optional<LiveRun> liveBaseline = {};  ///< the baseline's, through the same pipeline
-    std::optional<int64_t> intervalNs = {};    ///< `gstreamer` rows: focusmeter's interval, ns
+    std::string format = {};                     ///< the recording's pixel format ("YUYV", "MJPEG")
+    std::optional<double> nominalFps = {};       ///< the recording's frame rate
+    std::optional<LiveRun> live = {};            ///< infocus's measurement
+    std::optional<LiveRun> liveBaseline = {};    ///< the baseline's, through the same pipeline
+    std::optional<int64_t> intervalNs = {};      ///< `gstreamer` rows: focusmeter's interval, ns
+    std::optional<AutofocusRun> autofocus = {};  ///< the `autofocus` row's frames and errors
 };
 
 /// Options shared by all benchmarks.
@@ -56,8 +68,8 @@ struct BenchOptions {
 
 /// The families of rows BenchOptions::only chooses from.
 inline const std::vector<std::string>& benchFamilies() {
-    static const std::vector<std::string> families{"sharpness", "mjpeg",  "blur", "stack",
-                                                   "jobs",      "python", "live", "gstreamer"};
+    static const std::vector<std::string> families{
+        "sharpness", "mjpeg", "blur", "stack", "jobs", "python", "live", "gstreamer", "autofocus"};
     return families;
 }
 
@@ -76,6 +88,10 @@ double medianMs(const std::function<void()>& fn, double budgetS);
 /// 720p, 1080p and 4K, then every other operator at 1080p, one thread each; plus the per-frame
 /// noise estimate.
 void benchSharpness(const BenchOptions& options, const RowSink& sink);
+
+/// Autofocus on the simulated camera: the blur-width autofocus against the Raspberry Pi's
+/// contrast-detect schedule, frames to focus and final error over scenes, lenses and starts.
+void benchAutofocus(const BenchOptions& options, const RowSink& sink);
 
 /// MJPEG luma-only decode (infocus) vs full-colour RGB decode of the same 1080p JPEG.
 void benchMjpeg(const BenchOptions& options, const RowSink& sink);

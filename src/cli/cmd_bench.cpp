@@ -405,6 +405,39 @@ std::vector<std::pair<std::string, bool>> gstreamerTargets(const bench::BenchRow
             {"no more late than identity", m.dropped <= b.dropped}};
 }
 
+// The autofocus row as JSON: frames and errors of infocus and of the contrast baseline.
+nlohmann::ordered_json autofocusJson(const bench::BenchRow& row) {
+    const bench::AutofocusRun& a = *row.autofocus;
+    nlohmann::ordered_json j;
+    j["what"] = row.what;
+    j["width"] = row.width;
+    j["height"] = row.height;
+    j["frames_median"] = a.framesMedian;
+    j["frames_worst"] = a.framesWorst;
+    j["error_dpt_worst"] = a.errorDptWorst;
+    j["in_focus"] = a.inFocus;
+    j["runs"] = a.runs;
+    j["baseline"] = row.baseline;
+    j["baseline_frames_median"] = a.baselineFramesMedian;
+    j["baseline_frames_worst"] = a.baselineFramesWorst;
+    j["baseline_error_dpt_worst"] = a.baselineErrorDptWorst;
+    j["baseline_in_focus"] = a.baselineInFocus;
+    j["note"] = row.note;
+    return j;
+}
+
+// The autofocus row as text: frames to focus beside the baseline's.
+void printAutofocus(const bench::BenchRow& row) {
+    const bench::AutofocusRun& a = *row.autofocus;
+    std::printf("\nautofocus: frames from the command to focus (%s)\n", row.note.c_str());
+    std::printf("  %-34s %7s %6s %16s %9s\n", "", "median", "worst", "worst error dpt", "in focus");
+    std::printf("  %-34s %7.1f %6.0f %16.3f %5d/%d\n", "infocus (blur width)", a.framesMedian,
+                a.framesWorst, a.errorDptWorst, a.inFocus, a.runs);
+    std::printf("  %-34s %7.1f %6.0f %16.3f %5d/%d\n", row.baseline.c_str(), a.baselineFramesMedian,
+                a.baselineFramesWorst, a.baselineErrorDptWorst, a.baselineInFocus, a.runs);
+    std::fflush(stdout);
+}
+
 nlohmann::ordered_json gstreamerJson(const bench::BenchRow& row) {
     nlohmann::ordered_json j;
     j["what"] = row.what;
@@ -492,7 +525,7 @@ int runBench(const BenchArgs& args) {
         if (!read) return reportError("bench", read.error());
         frames = std::move(*read);
     }
-    if (!args.json && args.only != "live" && args.only != "gstreamer")
+    if (!args.json && args.only != "live" && args.only != "gstreamer" && args.only != "autofocus")
         std::printf("%-17s %11s %12s %12s %9s  %s\n", "what", "size", "infocus ms", "baseline ms",
                     "speedup", "baseline");
     bool liveHeader = false;
@@ -503,6 +536,13 @@ int runBench(const BenchArgs& args) {
                 std::cout << gstreamerJson(row).dump() << std::endl;
             else
                 printGstreamer(row, gstreamerHeader);
+            return;
+        }
+        if (row.autofocus) {
+            if (args.json)
+                std::cout << autofocusJson(row).dump() << std::endl;
+            else
+                printAutofocus(row);
             return;
         }
         if (row.what == "live") {
