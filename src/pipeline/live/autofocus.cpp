@@ -350,6 +350,8 @@ bool refine(Session& s, const BlurModel& model, double& pos, Reading atCentre, d
         pos = centre;
         if (centre == range.min || centre == range.max) break;
     }
+    // Where the lens already is within the tolerance, the frame just read shows it in focus.
+    if (std::abs(pos - s.lastPosition()) <= model.tolerance(pos)) return true;
     Reading last;
     return s.move(pos, s.lastPosition()) && s.read(last, pos);
 }
