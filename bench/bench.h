@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "infocus/image.h"
+#include "infocus/live.h"
 #include "infocus/synth.h"
 
 namespace infocus::bench {
@@ -22,6 +23,7 @@ struct LiveRun {
     double latencyP50Ms = 0.0;  ///< a frame's due time (capture) to its state seen, median
     double latencyP99Ms = 0.0;  ///< … 99th percentile
     double cpuCores = 0.0;      ///< process CPU time over wall time during the run
+    LiveStageTimes stages;      ///< mean seconds a frame in each stage, over the states seen
 };
 
 /// The `autofocus` row: frames from the command to focus over the bench's cases, for the

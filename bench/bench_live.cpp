@@ -213,6 +213,7 @@ Result<LiveRun> runLive(const std::string& dir, double seconds, MeasureFn measur
             return st.error();
         }
     std::vector<double> latencies;
+    LiveStageTimes stages;  // sums over the states seen
     std::shared_ptr<const LiveState> last;
     // A short run on a busy machine still waits for a few states, within a bound.
     const auto enough = [&] {
@@ -230,6 +231,16 @@ Result<LiveRun> runLive(const std::string& dir, double seconds, MeasureFn measur
         }
         const auto due = t0 + std::chrono::nanoseconds(s->timestampNs - kFirstTimestampNs);
         latencies.push_back(std::chrono::duration<double, std::milli>(now - due).count());
+        const LiveStageTimes& st = s->stages;
+        for (auto [sum, v] : {std::pair{&stages.captureS, st.captureS},
+                              {&stages.lumaS, st.lumaS},
+                              {&stages.noiseS, st.noiseS},
+                              {&stages.sharpnessS, st.sharpnessS},
+                              {&stages.blurS, st.blurS},
+                              {&stages.stateS, st.stateS},
+                              {&stages.picturesS, st.picturesS},
+                              {&stages.publishS, st.publishS}})
+            *sum += v;
         last = std::move(s);
     }
     const auto tEnd = Clock::now();
@@ -249,6 +260,11 @@ Result<LiveRun> runLive(const std::string& dir, double seconds, MeasureFn measur
     run.latencyP50Ms = percentile(latencies, 0.5);
     run.latencyP99Ms = percentile(latencies, 0.99);
     run.cpuCores = (cpu1 - cpu0) / std::chrono::duration<double>(t1 - t0).count();
+    const double n = static_cast<double>(latencies.size());
+    for (double* v : {&stages.captureS, &stages.lumaS, &stages.noiseS, &stages.sharpnessS,
+                      &stages.blurS, &stages.stateS, &stages.picturesS, &stages.publishS})
+        *v /= n;
+    run.stages = stages;
     return run;
 }
 
@@ -454,11 +470,16 @@ void benchLive(const BenchOptions& options, const RowSink& sink) {
         }
         std::error_code ec;
         fs::remove_all(dir, ec);
-        char note[160];
+        char note[400];
+        const LiveStageTimes st = row.live ? row.live->stages : LiveStageTimes{};
         std::snprintf(note, sizeof note,
                       "%g s each, 16x9 grid, percentile peaking, %d px preview; latency from "
-                      "a frame's due time to its state",
-                      options.liveSeconds, kPreviewLongSide);
+                      "a frame's due time to its state; infocus's ms a frame: capture %.2f "
+                      "(CPU), luma %.2f, noise %.2f, sharpness %.2f, blur %.2f, state %.2f, "
+                      "preview+peaking %.2f, publish %.3f",
+                      options.liveSeconds, kPreviewLongSide, st.captureS * 1e3, st.lumaS * 1e3,
+                      st.noiseS * 1e3, st.sharpnessS * 1e3, st.blurS * 1e3, st.stateS * 1e3,
+                      st.picturesS * 1e3, st.publishS * 1e3);
         row.note = failed.empty() ? note : "failed: " + failed;
         sink(row);
     }

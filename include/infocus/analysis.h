@@ -71,6 +71,15 @@ struct RegionResult {
     std::string statusReason;  ///< why the region is not Ok, for people (empty when Ok)
 };
 
+/// Seconds each stage of Analyzer::analyze took (wall time on the calling thread; the blur's
+/// shares run on several cores meanwhile). Not in the JSONL.
+struct AnalysisTimes {
+    double lumaS = 0.0;       ///< the frame to 8-bit luma
+    double noiseS = 0.0;      ///< the noise estimate
+    double sharpnessS = 0.0;  ///< the regions' focus measure and status
+    double blurS = 0.0;       ///< the blur widths (0 without them)
+};
+
 /// Measurements of one frame.
 struct FrameAnalysis {
     uint64_t frame = 0;  ///< index of the frame in the analysed stream
@@ -89,6 +98,7 @@ struct FrameAnalysis {
     /// The median of the regions' halo fractions where enough regions have one
     /// (sharpeningHalo); not in the JSONL.
     std::optional<double> sharpeningHalo;
+    AnalysisTimes times;  ///< where Analyzer::analyze spent its time
 };
 
 /// Whether any region of @p a is Ok: without one, FrameAnalysis::frameSharpness means nothing.

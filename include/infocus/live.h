@@ -117,6 +117,19 @@ struct Magnifier {
     Rect source;  ///< the frame pixels the crop shows
 };
 
+/// Seconds each stage of the live pipeline took for one frame (wall time on its thread), for the
+/// bench's breakdown; not in the state JSON.
+struct LiveStageTimes {
+    double captureS = 0.0;    ///< CPU time of the source's next(): read, decode or copy
+    double lumaS = 0.0;       ///< to 8-bit luma
+    double noiseS = 0.0;      ///< the noise estimate
+    double sharpnessS = 0.0;  ///< the regions' focus measure
+    double blurS = 0.0;       ///< the blur widths
+    double stateS = 0.0;      ///< the meter, regions, optics and depth of field
+    double picturesS = 0.0;   ///< preview, peaking mask and magnifier
+    double publishS = 0.0;    ///< handing the previous state to the faces
+};
+
 /// Everything a face shows of one analysed frame. Immutable once published.
 struct LiveState {
     uint64_t frame = 0;       ///< frames analysed since start (this one's index)
@@ -175,6 +188,7 @@ struct LiveState {
     std::optional<Magnifier> magnifier;
     PeakingMode peaking = PeakingMode::Off;
     std::optional<Rect> scoreRoi;
+    LiveStageTimes stages;  ///< where this frame's time went
 };
 
 /// The state as the JSON object of `live --ui json` and the web view's /state (one line, no

@@ -2,15 +2,16 @@
 // The per-frame analyser: luma, noise estimate, sharpness of every region, blur width.
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <future>
 #include <thread>
 
 #include "infocus/analysis.h"
 #include "infocus/blur.h"
 #include "infocus/luma.h"
 #include "infocus/metrics.h"
+#include "src/core/share_workers.h"
 
 namespace infocus {
 
@@ -83,7 +84,21 @@ struct Analyzer::Impl {
     LumaConverter converter;
     double noiseSigma = 0.0;
     std::vector<BlurTracker> trackers;  // one per share of the regions (blurSearchesPerFrame > 0)
+    ShareWorkers workers;               // the blur's shares beyond the first
 };
+
+namespace {
+
+using StageClock = std::chrono::steady_clock;
+
+double secondsSince(StageClock::time_point& t) {
+    const auto now = StageClock::now();
+    const double s = std::chrono::duration<double>(now - t).count();
+    t = now;
+    return s;
+}
+
+}  // namespace
 
 Analyzer::Analyzer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Analyzer::~Analyzer() = default;
@@ -120,6 +135,7 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index) {
 }
 
 Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma8& luma) {
+    auto t = StageClock::now();
     auto converted = impl_->converter.toLuma8(frame);
     if (!converted) return converted.error();
     luma = std::move(*converted);
@@ -127,6 +143,7 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
     const AnalysisOptions& o = impl_->options;
 
     FrameAnalysis a;
+    a.times.lumaS = secondsSince(t);
     a.frame = index;
     a.timestampNs = frame.timestampNs;
     a.lens = frame.lens;
@@ -168,6 +185,7 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
     }
     SharpnessParams params = impl_->params;
     params.noiseSigma = impl_->noiseSigma;
+    a.times.noiseS = secondsSince(t);
     std::vector<double> scores(rects.size());
     sharpness(img, rects, params, scores);
 
@@ -201,6 +219,7 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
         r.status = status[i];
         r.statusReason = std::move(reasons[i]);
     }
+    a.times.sharpnessS = secondsSince(t);
     if (o.measureBlur) {
         // Blur costs far more than sharpness: spread the regions over the cores, each share
         // with its own tracker when the stream is tracked.
@@ -220,7 +239,7 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
                                              o.blurSearchBudgetS);
             }
         }
-        const auto work = [&](unsigned share) {
+        const auto work = [&](size_t share) {
             const size_t begin = n * share / threads, end = n * (share + 1) / threads;
             const auto part = std::span(rects).subspan(begin, end - begin);
             const std::vector<BlurEstimate> blur = o.blurSearchesPerFrame > 0
@@ -239,13 +258,9 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
                 r.haloFraction = b.haloFraction;
             }
         };
-        std::vector<std::future<void>> jobs;
-        for (unsigned t = 1; t < threads; ++t)
-            jobs.push_back(std::async(std::launch::async, work, t));
-        work(0);
-        for (auto& j : jobs)
-            j.get();
+        impl_->workers.run(threads, work);
         a.sharpeningHalo = sharpeningHalo(a.regions);
+        a.times.blurS = secondsSince(t);
     }
     return a;
 }

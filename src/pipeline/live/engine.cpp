@@ -2,6 +2,8 @@
 // The live engine: a capture thread that keeps only the newest frame, an analysis thread that
 // publishes one LiveState per frame it takes, and controls that run on the capture thread between
 // frames. Autofocus runs beside them and sees frames and the lens only through a FrameTap.
+#include <time.h>
+
 #include <algorithm>
 #include <cmath>
 #include <condition_variable>
@@ -38,7 +40,15 @@ struct Captured {
     Frame frame;
     int64_t arrivalNs = 0;  // CLOCK_MONOTONIC when next() returned it
     uint64_t serial = 0;    // frames delivered by the source before it, from 1
+    double captureS = 0.0;  // the CPU time next() took
 };
+
+// This thread's CPU time, seconds.
+double threadCpuS() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 // What the analysis takes from the controls with each frame.
 struct Settings {
@@ -302,7 +312,10 @@ private:
                 if (stopping_) break;
             }
             commands_.runQueued();
+            // CPU time: a paced source sleeps in next() until the frame is due.
+            const double asked = threadCpuS();
             auto frame = source_->next();
+            const double captureS = threadCpuS() - asked;
             if (!frame && frame.error().kind == ErrorKind::Corrupt) {
                 std::lock_guard lock(mutex_);
                 ++damaged_;
@@ -317,7 +330,7 @@ private:
             std::lock_guard lock(mutex_);
             if (slot_) ++skipped_;
             // The serial is written under the lock, and read by controls on this thread.
-            slot_ = Captured{std::move(*frame), monotonicNs(), ++captureSerial_};
+            slot_ = Captured{std::move(*frame), monotonicNs(), ++captureSerial_, captureS};
             if (afActive_) afSlot_ = *slot_;
             dropped_ = stats.dropped;
             cv_.notify_all();
@@ -348,6 +361,7 @@ private:
 
     void analysisLoop() {
         uint64_t index = 0;
+        double publishS = 0.0;  // the previous state's handing over
         Throughput throughput;
         Captured c;
         Settings set;
@@ -374,7 +388,10 @@ private:
             s->latencyP50Ms = throughput.latencyP50Ms();
             s->latencyP99Ms = throughput.latencyP99Ms();
             s->fps = throughput.fps();
+            s->stages.publishS = publishS;
+            const auto published = Clock::now();
             publish(std::move(s), c.serial);
+            publishS = std::chrono::duration<double>(Clock::now() - published).count();
         }
         std::lock_guard lock(mutex_);
         analysisEnded_ = true;
@@ -421,11 +438,20 @@ private:
         if (control_) s->focusRange = range_;
 
         fillRegionsAndOptics(a, options_, focusM, *s);
+        const auto pictures = Clock::now();
         s->peaking = set.peaking;
         fillPictures(luma, options_, set.peaking, *s);
         if (set.magnifier)
             s->magnifier =
                 magnify(luma, (*set.magnifier)[0], (*set.magnifier)[1], (*set.magnifier)[2]);
+        const auto end = Clock::now();
+        s->stages.captureS = c.captureS;
+        s->stages.lumaS = a.times.lumaS;
+        s->stages.noiseS = a.times.noiseS;
+        s->stages.sharpnessS = a.times.sharpnessS;
+        s->stages.blurS = a.times.blurS;
+        s->stages.stateS = std::chrono::duration<double>(pictures - now).count();
+        s->stages.picturesS = std::chrono::duration<double>(end - pictures).count();
         return s;
     }
 
