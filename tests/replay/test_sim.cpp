@@ -254,7 +254,8 @@ TEST_CASE("every scene renders with its depth layout") {
 
 TEST_CASE("sim: source frames, focus control with one settle frame, determinism") {
     auto s = openSim(
-        "sim:scene=plane,distance=0.5m,focus=0.5m,size=64x48,pace=fast,noise=0.01,focal=25mm,"
+        "sim:scene=plane,distance=0.5m,focus=0.5m,size=64x48,pace=fast,noise=0.01,focal=25mm,delay="
+        "1,"
         "fnumber=1.4");
     REQUIRE(s.ok());
     FrameSource& src = **s;
