@@ -33,9 +33,9 @@
 /// plane do not depend on the machine's speed. A move asked for after frame k is delivered starts
 /// at the exposure of frame k + delay, and each frame's lens position is the one at its exposure.
 ///
-/// render() gathers discs of 2·kSimFastMinDiscPx output pixels and wider on a texture of half,
-/// a quarter or an eighth of the output's resolution, with the disc narrowed to keep the PSF's
-/// variance, and interpolates back (renderExact() gathers everything at full resolution).
+/// render() gathers discs of 2·kSimFastMinHalfDiscPx output pixels and wider on a texture of
+/// half, a quarter or an eighth of the output's resolution, with the disc narrowed to keep the
+/// PSF's variance, and interpolates back (renderExact() gathers everything at full resolution).
 ///
 /// Model limits (documented simplifications): the texture is fixed in image space (no change of
 /// magnification with focus or depth); each output pixel is blurred with the PSF of its own
@@ -69,6 +69,8 @@ inline constexpr double kSimDiameterStepPx = 1.0 / 16.0;
 inline constexpr double kSimMaxDiameterPx = 64.0;
 /// The fast render reduces a disc's resolution only as far as it stays this wide (pixels).
 inline constexpr double kSimFastMinDiscPx = 6.0;
+/// ... and at half resolution, this wide (pixels of the half-resolution texture).
+inline constexpr double kSimFastMinHalfDiscPx = 4.0;
 /// Wavelength of the simulated light, for the diffraction core: green, 550 nm.
 inline constexpr double kSimWavelengthM = optics::kDefaultWavelength;
 

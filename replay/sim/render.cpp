@@ -14,9 +14,14 @@
 // a block mean) and interpolates it bilinearly back: the gather's cost falls with the cube of the
 // scale. The block mean and the bilinear interpolation add a variance of s²/12 + s²/6 = s²/4
 // per axis (s the scale), so the disc rendered there is narrowed to keep the PSF's variance,
-// (D/s)²/16 + 1/4 = (d/s)²/16: D = √(d² − 4s²).
+// (D/s)²/16 + 1/4 = (d/s)²/16: D = √(d² − 4s²). Narrower discs are filtered at full resolution
+// with the same kernel as the gather, made dense.
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <map>
 
 #include "renderer_impl.h"
 
@@ -32,10 +37,12 @@ int quantise(double px) {
 }
 
 // The reduced scale a disc of @p diameterPx output pixels renders at: the coarsest that leaves
-// it kSimFastMinDiscPx wide or more. 0: full resolution.
+// it kSimFastMinDiscPx wide or more (kSimFastMinHalfDiscPx at half resolution, whose block
+// mean and interpolation blur least). 0: full resolution.
 int levelFor(double diameterPx) {
     int k = 0;
-    while (k + 1 < sim::kScales && diameterPx / (1 << (k + 1)) >= kSimFastMinDiscPx)
+    while (k + 1 < sim::kScales &&
+           diameterPx / (1 << (k + 1)) >= (k == 0 ? kSimFastMinHalfDiscPx : kSimFastMinDiscPx))
         ++k;
     return k;
 }
@@ -146,6 +153,10 @@ Image<float> SimRenderer::Impl::render(const SimConfig& config, double focusDiop
         }
     }
 
+    // Full-resolution pixels of the fast render: each kernel as a dense filter (OpenCV's
+    // vectorised correlation) over the bounding box of the pixels that use it.
+    if (!exact && reduced[0]) filterFull(full, out);
+
     for (int y = 0; y < h; ++y) {
         const uint16_t* idx = &depthIndex[static_cast<size_t>(y) * w];
         float* o = out.row(y);
@@ -164,7 +175,7 @@ Image<float> SimRenderer::Impl::render(const SimConfig& config, double focusDiop
         for (int x = 0; x < w; ++x) {
             const int k = level[idx[x]];
             if (k == 0) {
-                o[x] = static_cast<float>(levels[0].gather(x, y, *full[idx[x]]));
+                if (exact) o[x] = static_cast<float>(levels[0].gather(x, y, *full[idx[x]]));
                 continue;
             }
             const int i = ix[k][x];
@@ -175,6 +186,65 @@ Image<float> SimRenderer::Impl::render(const SimConfig& config, double focusDiop
         }
     }
     return out;
+}
+
+void SimRenderer::Impl::filterFull(const std::vector<const synth::GatherKernel*>& full,
+                                   Image<float>& out) {
+    // The pixels of each kernel: their bounding box.
+    struct Box {
+        int x0 = INT_MAX, y0 = INT_MAX, x1 = -1, y1 = -1;
+    };
+    std::map<const synth::GatherKernel*, Box> boxes;
+    for (const auto* k : full)
+        if (k) boxes[k];
+    if (boxes.empty()) return;
+    for (int y = 0; y < h; ++y) {
+        const uint16_t* idx = &depthIndex[static_cast<size_t>(y) * w];
+        const synth::GatherKernel* last = nullptr;
+        Box* box = nullptr;
+        for (int x = 0; x < w; ++x) {
+            const synth::GatherKernel* k = full[idx[x]];
+            if (!k) continue;
+            if (k != last) {
+                last = k;
+                box = &boxes[k];
+                box->y0 = std::min(box->y0, y);
+                box->y1 = std::max(box->y1, y);
+            }
+            box->x0 = std::min(box->x0, x);
+            box->x1 = std::max(box->x1, x);
+        }
+    }
+    const Level& L = levels[0];
+    const cv::Mat texture(L.texture.height(), L.texture.width(), CV_32F,
+                          const_cast<float*>(L.texture.data()));
+    cv::Mat result;
+    for (const auto& [k, b] : boxes) {
+        // The kernel as a dense square: runs of full weight and the rim's taps.
+        int r = 0;
+        for (const auto& run : k->runs)
+            r = std::max({r, std::abs(run.dy), std::abs(run.a), std::abs(run.b)});
+        for (const auto& t : k->taps)
+            r = std::max({r, std::abs(t.dy), std::abs(t.dx)});
+        cv::Mat dense = cv::Mat::zeros(2 * r + 1, 2 * r + 1, CV_32F);
+        for (const auto& run : k->runs)
+            for (int x = run.a; x <= run.b; ++x)
+                dense.at<float>(run.dy + r, x + r) += static_cast<float>(k->fullWeight);
+        for (const auto& t : k->taps)
+            dense.at<float>(t.dy + r, t.dx + r) += static_cast<float>(t.w);
+        // The box with the kernel's reach around it, inside the padded texture.
+        const cv::Rect area(b.x0 + pad - r, b.y0 + pad - r, b.x1 - b.x0 + 1 + 2 * r,
+                            b.y1 - b.y0 + 1 + 2 * r);
+        cv::filter2D(texture(area), result, CV_32F, dense, cv::Point(-1, -1), 0,
+                     cv::BORDER_ISOLATED);
+        for (int y = b.y0; y <= b.y1; ++y) {
+            const uint16_t* idx = &depthIndex[static_cast<size_t>(y) * w];
+            const float* src = result.ptr<float>(y - b.y0 + r) + r - b.x0;
+            float* o = out.row(y);
+            for (int x = b.x0; x <= b.x1; ++x)
+                if (full[idx[x]] == k) o[x] = src[x];
+        }
+    }
 }
 
 Image<float> SimRenderer::render(double focusDioptres, double timeS) {

@@ -56,6 +56,9 @@ struct SimRenderer::Impl {
     // @p exact: every pixel gathered at full resolution.
     Image<float> render(const SimConfig& config, double focusDioptres, double depthScale,
                         bool exact);
+    // Writes the output pixels whose kernel in @p full (per depth; null: a reduced scale) is
+    // set, filtering the full-resolution texture with each kernel made dense.
+    void filterFull(const std::vector<const synth::GatherKernel*>& full, Image<float>& out);
 };
 
 }  // namespace infocus
