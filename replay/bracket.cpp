@@ -196,7 +196,9 @@ Result<Positions> fromCsv(const std::string& file, size_t count) {
             if (step * first <= 0)
                 return usage(file + " line " + std::to_string(r.line) + ": frame " +
                              std::to_string(i) + " at " + number(r.position.value) +
-                             " is out of order after " + number((*rows)[i - 1].position.value) +
+                             (step == 0
+                                  ? " repeats the position of the frame before"
+                                  : " turns back after " + number((*rows)[i - 1].position.value)) +
                              "; the positions must run one way, frame after frame");
         } else if (i == 1 && r.position.value == (*rows)[0].position.value) {
             return usage(file + " line " + std::to_string(r.line) +
