@@ -56,7 +56,12 @@ public:
     FocusRange range() const override { return range_; }
     Result<LensPosition> get() override {
         std::lock_guard lock(mutex_);
-        return LensPosition{motion_.target(), range_.unit, std::nullopt};
+        const double v = motion_.target();
+        // Dioptres where the positions are a lens's focus (dpt) or its focused distance (m).
+        std::optional<double> dpt;
+        if (range_.unit == "dioptre") dpt = v;
+        if (range_.unit == "m" && v > 0) dpt = 1.0 / v;
+        return LensPosition{v, range_.unit, dpt};
     }
     Status set(double value) override {
         if (!std::isfinite(value))

@@ -213,6 +213,8 @@ TEST_CASE("bracket: a recording whose frames carry lens positions") {
     CHECK(focus->range().min == 0.5);
     CHECK(focus->range().max == 5.0);
     CHECK(focus->range().unit == "dioptre");
+    REQUIRE(focus->set(3.0).ok());
+    CHECK(focus->get()->dioptres == 3.0);
     CHECK(focus->framesToSettle(0.5, 5.0) == 0);  // an ideal lens delivered at once
     REQUIRE((*src)->start().ok());
     for (double v : {2.6, 1.2, 4.9}) {
