@@ -2,7 +2,8 @@
 // The simulated camera against the thin-lens model's thin-lens defocus model: the per-region disc
 // diameter equals ΔX_i computed independently here, a rendered edge rises 10–90 % over
 // 0.68705·d, the disc rendering equals a brute-force convolution of the interpolated texture,
-// focus moves after one settle frame, and frames are deterministic per seed.
+// focus moves after one settle frame with one frame in flight (delay=1), and frames are
+// deterministic per seed.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
