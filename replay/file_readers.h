@@ -45,6 +45,10 @@ bool isImageExtension(const std::string& ext);
 /// The image files of directory @p dir, in name order (hidden files left out).
 std::vector<std::string> imagesInDirectory(const std::string& dir);
 
+/// Image files @p files (at least one) as a reader, frame i at i/@p fps.
+Result<std::unique_ptr<FrameReader>> openImageReader(const SourceSpec& spec,
+                                                     std::vector<std::string> files, double fps);
+
 /// Plays image files @p files (at least one) in order, per the playback options of @p spec.
 Result<std::unique_ptr<FrameSource>> openImages(const SourceSpec& spec,
                                                 std::vector<std::string> files);

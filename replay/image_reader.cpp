@@ -144,6 +144,14 @@ std::vector<std::string> imagesInDirectory(const std::string& dir) {
     return out;
 }
 
+Result<std::unique_ptr<FrameReader>> openImageReader(const SourceSpec& spec,
+                                                     std::vector<std::string> files, double fps) {
+    auto first = loadImage(files[0]);
+    if (!first) return first.error();
+    return std::unique_ptr<FrameReader>(std::make_unique<ImageListReader>(
+        std::move(files), spec.text, spec.target, fps, std::move(*first)));
+}
+
 Result<std::unique_ptr<FrameSource>> openImages(const SourceSpec& spec,
                                                 std::vector<std::string> files) {
     auto options = parsePlaybackOptions(spec);

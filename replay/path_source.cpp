@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "infocus/recording.h"
+#include "replay/bracket.h"
 #include "replay/decoders/decoders.h"
 #include "replay/file_readers.h"
 #include "replay/recording_format.h"
@@ -84,12 +85,56 @@ std::optional<Error> unreadable(const std::string& file) {
                      "cannot read " + file + ": " + std::strerror(e) + "; check its permissions");
 }
 
+// The frames of a bracket: a recording, a directory of images or a glob of them.
+Result<std::unique_ptr<FrameSource>> openBracketPath(const SourceSpec& spec,
+                                                     const std::string& path) {
+    std::unique_ptr<FrameReader> reader;
+    if (isDirectory(path)) {
+        if (auto e = unreadable(path + "/" + kHeaderFileName)) return *e;
+        if (exists(path + "/" + kHeaderFileName)) {
+            auto r = RecordingReader::open(path);
+            if (!r) return r.error();
+            reader = std::make_unique<RecordingFrameReader>(std::move(*r), spec.text);
+        } else {
+            auto files = imagesInDirectory(path);
+            if (files.empty())
+                return makeError(ErrorKind::NotFound,
+                                 "source '" + spec.text + "': directory " + path +
+                                     " holds neither a recording nor images to bracket");
+            auto r = openImageReader(spec, std::move(files), 30.0);
+            if (!r) return r.error();
+            reader = std::move(*r);
+        }
+    } else if (!exists(path) && path.find_first_of("*?[") != std::string::npos) {
+        glob_t g{};
+        std::vector<std::string> files;
+        if (::glob(path.c_str(), 0, nullptr, &g) == 0)
+            for (size_t i = 0; i < g.gl_pathc; ++i)
+                if (!isDirectory(g.gl_pathv[i])) files.emplace_back(g.gl_pathv[i]);
+        ::globfree(&g);
+        if (files.empty())
+            return makeError(ErrorKind::NotFound,
+                             "no file matches the pattern '" + path + "'; check the path");
+        std::sort(files.begin(), files.end());
+        auto r = openImageReader(spec, std::move(files), 30.0);
+        if (!r) return r.error();
+        reader = std::move(*r);
+    } else {
+        return makeError(exists(path) ? ErrorKind::Usage : ErrorKind::NotFound,
+                         "source '" + spec.text + "': " + path +
+                             (exists(path) ? " is a single file" : " does not exist") +
+                             "; a bracket is a directory or glob of images, or a recording");
+    }
+    return openBracket(spec, std::move(reader));
+}
+
 }  // namespace
 
 Result<std::unique_ptr<FrameSource>> openPathSource(const SourceSpec& spec) {
     std::string path = spec.target;
     while (path.size() > 1 && path.back() == '/')
         path.pop_back();
+    if (spec.options.count("bracket")) return openBracketPath(spec, path);
 
     if (isDirectory(path)) {
         if (::access(path.c_str(), R_OK | X_OK) != 0)

@@ -15,6 +15,10 @@
 ///   angle=5              edges: slant of the chart's squares in degrees
 ///   size=1280x720 fps=30 noise=0.01 seed=1 format=GREY|YUYV pace=camera|fast
 ///   focal=4.74mm fnumber=1.8 pitch=1.4um sensor=4608x2592   the lens and full-resolution sensor
+///   travel=20ms settle=10ms   the lens's time to cross its range (0–10 dpt) and to settle
+///   delay=2              frames between a frame's exposure and its delivery
+///   move=0.5m:4s         plane/tilted/edges: the distance goes from distance= to 0.5 m over 4 s
+///                        of frame time (linearly in metres), then holds
 /// The default lens is a Raspberry Pi Camera Module 3. The output image is the full sensor scaled
 /// to `size`, so the pixel pitch is pitch × sensor width / output width.
 ///
@@ -24,6 +28,14 @@
 /// sharp scene (the sensor's pixel integration) and is blurred as a continuous image (cubic
 /// interpolation that adds no blur), so defocus far below a pixel still softens the image and a
 /// focus measure rises and falls smoothly through focus.
+///
+/// Time is the frames' own: frame k is exposed at k/fps, so lens travel, settling and the moving
+/// plane do not depend on the machine's speed. A move asked for after frame k is delivered starts
+/// at the exposure of frame k + delay, and each frame's lens position is the one at its exposure.
+///
+/// render() gathers discs of 2·kSimFastMinHalfDiscPx output pixels and wider on a texture of
+/// half, a quarter or an eighth of the output's resolution, with the disc narrowed to keep the
+/// PSF's variance, and interpolates back (renderExact() gathers everything at full resolution).
 ///
 /// Model limits (documented simplifications): the texture is fixed in image space (no change of
 /// magnification with focus or depth); each output pixel is blurred with the PSF of its own
@@ -55,6 +67,10 @@ namespace infocus {
 inline constexpr double kSimDiameterStepPx = 1.0 / 16.0;
 /// Largest disc diameter rendered (pixels); larger blur is clipped to it.
 inline constexpr double kSimMaxDiameterPx = 64.0;
+/// The fast render reduces a disc's resolution only as far as it stays this wide (pixels).
+inline constexpr double kSimFastMinDiscPx = 6.0;
+/// ... and at half resolution, this wide (pixels of the half-resolution texture).
+inline constexpr double kSimFastMinHalfDiscPx = 4.0;
 /// Wavelength of the simulated light, for the diffraction core: green, 550 nm.
 inline constexpr double kSimWavelengthM = optics::kDefaultWavelength;
 
@@ -105,7 +121,23 @@ struct SimConfig {
     uint64_t seed = 1;                       ///< texture and noise seed
     PixelFormat format = PixelFormat::GREY;  ///< GREY or YUYV (neutral chroma)
     bool paced = true;                       ///< deliver at fps like a camera; false: at once
+    /// Time for the lens to cross its whole range (0–10 dpt), seconds: a voice-coil module with
+    /// slew-rate control crosses it in tens of milliseconds.
+    double lensTravelS = 0.02;
+    /// Time for the lens to come to rest after its travel, seconds (a voice coil's ringing
+    /// under ringing control: about one vibration period, 5–15 ms).
+    double lensSettleS = 0.01;
+    /// Frames between a frame's exposure and its delivery (an ISP's or a UVC camera's queue).
+    int delayFrames = 2;
+    /// The moving plane: distancesM[0] goes to @ref moveToM over @ref moveS seconds, then holds.
+    /// Not set: the scene stands still.
+    std::optional<double> moveToM;
+    double moveS = 0.0;  ///< duration of the move, seconds (> 0 with moveToM)
 };
+
+/// The distance of the scene's (first) plane at @p timeS seconds: distancesM[0], or on the way
+/// from it to moveToM, linearly in metres over moveS, then moveToM.
+double simDistanceAtM(const SimConfig& config, double timeS);
 
 /// Parses sim: options (listed above) into a config. Usage error naming the bad option.
 Result<SimConfig> parseSimOptions(const std::map<std::string, std::string>& options);
@@ -125,11 +157,11 @@ public:
     ~SimRenderer();
 
     const SimConfig& config() const { return config_; }
-    /// Depth of the scene point seen by output pixel (x, y), metres from the lens.
-    double depthAtM(int x, int y) const;
+    /// Depth of the scene point seen by output pixel (x, y), metres from the lens, at @p timeS.
+    double depthAtM(int x, int y, double timeS = 0.0) const;
     /// True geometric blur diameter ΔX_i (the defocus disc alone, without diffraction) at pixel
-    /// (x, y) for @p focusDioptres, output pixels.
-    double blurDiameterPxAt(int x, int y, double focusDioptres) const;
+    /// (x, y) for @p focusDioptres at @p timeS, output pixels.
+    double blurDiameterPxAt(int x, int y, double focusDioptres, double timeS = 0.0) const;
     /// The diameter the renderer actually uses at (x, y): blurDiameterPxAt quantised to
     /// kSimDiameterStepPx and capped at kSimMaxDiameterPx.
     double renderedDiameterPxAt(int x, int y, double focusDioptres) const;
@@ -139,14 +171,19 @@ public:
     /// σ of the Gaussian core the renderer convolves the disc with, 0.42·λ·N, output pixels.
     double diffractionSigmaPx() const;
     /// The scene's regions: plane/edges one, steps one per plane, tilted a 16×9 grid.
-    std::vector<SimRegion> regions(double focusDioptres) const;
+    std::vector<SimRegion> regions(double focusDioptres, double timeS = 0.0) const;
+    /// Factor on every depth at @p timeS: simDistanceAtM over distancesM[0].
+    double depthScaleAt(double timeS) const;
     /// Distance from the lens that is in focus at @p focusDioptres (infinity for 0).
     static double inFocusDistanceM(double focusDioptres);
     /// The sharp (unblurred) scene as seen by the output pixels, grey levels 0..255.
     Image<float> sharpImage() const;
-    /// Renders the scene blurred for @p focusDioptres, without noise, grey levels 0..255.
-    /// About 10–30 ms at 720p depending on the blur; callers cache per focus setting.
-    Image<float> render(double focusDioptres);
+    /// Renders the scene blurred for @p focusDioptres at @p timeS, without noise, grey levels
+    /// 0..255: the fast render (wide discs at reduced resolution).
+    Image<float> render(double focusDioptres, double timeS = 0.0);
+    /// The same with every pixel gathered at full resolution: the reference the fast render is
+    /// held to. Slow for wide discs (about a second at 720p and 60 px).
+    Image<float> renderExact(double focusDioptres, double timeS = 0.0);
 
 private:
     SimRenderer() = default;

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "infocus/sim.h"
+#include "replay/lens_motion.h"
 #include "replay/playback.h"
 #include "src/core/read_number.h"
 
@@ -204,17 +205,50 @@ Want pitch(SimConfig& c, const std::string& v) {
     return {};
 }
 
+Want travel(SimConfig& c, const std::string& v) {
+    auto t = replay::readDurationS(v);
+    if (!t || *t > 60) return "give the lens's time over its whole range, 0 to 60 s, e.g. 20ms";
+    c.lensTravelS = *t;
+    return {};
+}
+
+Want settle(SimConfig& c, const std::string& v) {
+    auto t = replay::readDurationS(v);
+    if (!t || *t > 60) return "give the lens's settle time, 0 to 60 s, e.g. 10ms";
+    c.lensSettleS = *t;
+    return {};
+}
+
+Want delay(SimConfig& c, const std::string& v) {
+    if (!readsWhole(v, c.delayFrames) || c.delayFrames < 0 || c.delayFrames > 100)
+        return "give the frames between exposure and delivery, 0 to 100, e.g. 2";
+    return {};
+}
+
+Want move(SimConfig& c, const std::string& v) {
+    const size_t colon = v.find(':');
+    const auto to = colon == std::string::npos ? std::nullopt : length(v.substr(0, colon));
+    const auto t =
+        colon == std::string::npos ? std::nullopt : replay::readDurationS(v.substr(colon + 1));
+    if (!to || !t || !(*t > 0) || *t > 1e6)
+        return "give the distance to reach and the time to reach it, e.g. 0.5m:4s";
+    c.moveToM = *to;
+    c.moveS = *t;
+    return {};
+}
+
 // Every option of a sim: source string, in the order the help lists them.
 struct SimOption {
     const char* key;
     Want (*apply)(SimConfig&, const std::string&);
 };
 constexpr SimOption kOptions[] = {
-    {"scene", scene},   {"focus", focus}, {"distance", distance}, {"distances", distances},
-    {"tilt", tilt},     {"axis", axis},   {"angle", angle},       {"size", size},
-    {"fps", fps},       {"noise", noise}, {"seed", seed},         {"format", format},
-    {"pace", pace},     {"focal", focal}, {"fnumber", fnumber},   {"pitch", pitch},
-    {"sensor", sensor},
+    {"scene", scene},   {"focus", focus},   {"distance", distance}, {"distances", distances},
+    {"tilt", tilt},     {"axis", axis},     {"angle", angle},       {"size", size},
+    {"fps", fps},       {"noise", noise},   {"seed", seed},         {"format", format},
+    {"pace", pace},     {"focal", focal},   {"fnumber", fnumber},   {"pitch", pitch},
+    {"sensor", sensor}, {"travel", travel}, {"settle", settle},     {"delay", delay},
+    {"move", move},
 };
 
 }  // namespace

@@ -1,15 +1,17 @@
 // SPDX-License-Identifier: MIT
-// The simulated camera as a FrameSource: its focus control (in dioptres, one settle frame),
+// The simulated camera as a FrameSource: its focus control (in dioptres, a lens that travels),
 // per-frame noise, pixel formats and real-time pacing.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <optional>
 #include <thread>
 
 #include "infocus/sim.h"
 #include "infocus/source.h"
 #include "infocus/synth.h"
+#include "replay/lens_motion.h"
 #include "replay/playback.h"
 #include "replay/replay_sources.h"
 #include "replay/sim/sim_module.h"
@@ -20,36 +22,54 @@ namespace {
 
 constexpr double kSimMaxDioptres = 10.0;  // closest focus 10 cm, like small camera modules
 
-// Lens control of the simulated camera, in dioptres. A move shows from the second frame after
-// it (one settle frame, as a real lens needs time to move).
+// Lens control of the simulated camera, in dioptres: a lens that travels and settles, seen
+// through a pipeline that delivers each frame some frames after its exposure (lens_motion.h).
+// set() comes from the caller's thread while next() renders on the capture thread.
 class SimFocus final : public FocusControl {
 public:
-    explicit SimFocus(double initial) : target_(initial), current_(initial) {}
+    SimFocus(double initial, const SimConfig& c)
+        : initial_(initial),
+          motion_(initial, 0.0, kSimMaxDioptres, {c.lensTravelS, c.lensSettleS, c.delayFrames},
+                  c.fps) {}
     FocusRange range() const override {
-        return FocusRange{0.0, kSimMaxDioptres, 0.0, initial(), "dioptre"};
+        return FocusRange{0.0, kSimMaxDioptres, 0.0, initial_, "dioptre"};
     }
-    Result<LensPosition> get() override { return LensPosition{target_, "dioptre", target_}; }
+    Result<LensPosition> get() override {
+        std::lock_guard lock(mutex_);
+        const double t = motion_.target();
+        return LensPosition{t, "dioptre", t};
+    }
     Status set(double value) override {
         if (!std::isfinite(value))
             return makeError(ErrorKind::Usage, "sim: focus value must be a finite number");
-        target_ = std::clamp(value, 0.0, kSimMaxDioptres);
-        applyAt_ = nextSequence_ + 1;
+        std::lock_guard lock(mutex_);
+        motion_.command(std::clamp(value, 0.0, kSimMaxDioptres));
         return {};
     }
-    int settleFrames() const override { return 1; }
-
-    // The focus for the frame numbered @p sequence; called once per frame in order.
-    double forFrame(uint64_t sequence) {
-        if (sequence >= applyAt_) current_ = target_;
-        nextSequence_ = sequence + 1;
-        return current_;
+    int settleFrames() const override { return framesToSettle(0.0, kSimMaxDioptres); }
+    int framesToSettle(double from, double to) const override {
+        const auto clamp = [](double v) {
+            return std::isfinite(v) ? std::clamp(v, 0.0, kSimMaxDioptres) : 0.0;
+        };
+        std::lock_guard lock(mutex_);
+        return motion_.framesToSettle(clamp(from), clamp(to));
     }
-    double initial() const { return initial_; }
-    void setInitial(double v) { initial_ = v; }
+
+    // The lens position at the exposure of frame @p sequence; frames come in order.
+    double forFrame(uint64_t sequence) {
+        std::lock_guard lock(mutex_);
+        return motion_.positionAt(sequence);
+    }
+    // Frame @p sequence has been handed to the caller.
+    void delivered(uint64_t sequence) {
+        std::lock_guard lock(mutex_);
+        motion_.delivered(sequence);
+    }
 
 private:
-    double target_, current_, initial_ = 0;
-    uint64_t applyAt_ = 0, nextSequence_ = 0;
+    double initial_;
+    mutable std::mutex mutex_;
+    LensMotion motion_;
 };
 
 class SimSource final : public FrameSource {
@@ -57,8 +77,7 @@ public:
     SimSource(std::unique_ptr<SimRenderer> renderer, std::string text)
         : renderer_(std::move(renderer)),
           text_(std::move(text)),
-          focus_(renderer_->config().focusDioptres) {
-        focus_.setInitial(renderer_->config().focusDioptres);
+          focus_(renderer_->config().focusDioptres, renderer_->config()) {
         const SimConfig& c = renderer_->config();
         // A table of Gaussian samples indexed by a per-frame random stream: cheap per pixel
         // and deterministic for a seed.
@@ -96,9 +115,13 @@ public:
         const SimConfig& c = renderer_->config();
         const uint64_t seq = sequence_++;
         const double dioptres = focus_.forFrame(seq);
-        if (!cached_ || cachedFocus_ != dioptres) {
-            cachedImage_ = renderer_->render(dioptres);
+        // Simulated time: the frame's exposure, whatever the machine's speed.
+        const double timeS = static_cast<double>(seq) / c.fps;
+        const double scale = renderer_->depthScaleAt(timeS);
+        if (!cached_ || cachedFocus_ != dioptres || cachedScale_ != scale) {
+            cachedImage_ = renderer_->render(dioptres, timeS);
             cachedFocus_ = dioptres;
+            cachedScale_ = scale;
             cached_ = true;
         }
         auto frame = allocateFrame(c.format, c.size);
@@ -130,6 +153,7 @@ public:
             std::this_thread::sleep_until(due);
         }
         ++stats_.delivered;
+        focus_.delivered(seq);
         return frame;
     }
     void stop() override { started_ = false; }
@@ -145,7 +169,7 @@ private:
     uint64_t sequence_ = 0, startSeq_ = 0;
     std::chrono::steady_clock::time_point wallStart_;
     bool cached_ = false;
-    double cachedFocus_ = 0;
+    double cachedFocus_ = 0, cachedScale_ = 1;
     Image<float> cachedImage_;
     SourceStats stats_;
 };

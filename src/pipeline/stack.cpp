@@ -9,10 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <mutex>
-#include <sstream>
 #include <thread>
 
 #include "infocus/metrics.h"
@@ -39,13 +37,6 @@ double seconds(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::string trim(std::string s) {
-    const auto notSpace = [](unsigned char c) { return !std::isspace(c); };
-    s.erase(s.begin(), std::find_if(s.begin(), s.end(), notSpace));
-    s.erase(std::find_if(s.rbegin(), s.rend(), notSpace).base(), s.end());
-    return s;
-}
-
 // What one worker measured of one frame.
 struct Measured {
     FrameAnalysis analysis;
@@ -68,75 +59,6 @@ std::string_view stackRegionStatusName(StackRegionStatus s) {
             break;
     }
     return "ok";
-}
-
-Result<std::vector<LensPosition>> readPositionsCsv(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) {
-        const int err = errno;
-        return makeError(ErrorKind::NotFound, "cannot read the positions file '" + path +
-                                                  "': " + std::strerror(err) +
-                                                  "; give a CSV of frame,position,unit rows");
-    }
-    std::map<long, LensPosition> rows;
-    std::string line;
-    for (int number = 1; std::getline(in, line); ++number) {
-        const std::string where = path + " line " + std::to_string(number) + ": ";
-        line = trim(line);
-        if (line.empty() || line[0] == '#') continue;
-        std::vector<std::string> cells;
-        std::stringstream ss(line);
-        for (std::string c; std::getline(ss, c, ',');)
-            cells.push_back(trim(c));
-        if (cells.size() == 3 && cells[0] == "frame" && cells[1] == "position") continue;
-        if (cells.size() != 3)
-            return makeError(ErrorKind::Usage,
-                             where + "'" + line + "' is not frame,position,unit (e.g. 0,1.25,dpt)");
-        long frame = 0;
-        if (!readsWhole(cells[0], frame) || frame < 0)
-            return makeError(ErrorKind::Usage,
-                             where + "frame '" + cells[0] + "' is not a frame number from 0");
-        LensPosition p;
-        const std::string& unit = cells[2];
-        if (unit == "m" && cells[1] == "inf") {
-            p.value = HUGE_VAL;
-        } else if (const std::string_view v = std::string_view(cells[1]).substr(
-                       cells[1].starts_with('+') ? 1 : 0);  // "+20": a stage's Z as printed
-                   !readsWhole(v, p.value) || !std::isfinite(p.value)) {
-            return makeError(ErrorKind::Usage,
-                             where + "position '" + cells[1] + "' is not a finite number");
-        }
-        if (unit.empty() || unit.find_first_of(" \"") != std::string::npos)
-            return makeError(ErrorKind::Usage,
-                             where + "give a unit: dpt, m, or the axis's own (mm, um, steps)");
-        if (unit == "dpt" || unit == "dioptre") {
-            if (p.value < 0)
-                return makeError(ErrorKind::Usage, where + "a lens focus of " + cells[1] +
-                                                       " dpt lies beyond infinity");
-            p.unit = "dioptre";
-            p.dioptres = p.value;
-        } else if (unit == "m") {
-            if (!(p.value > 0))
-                return makeError(ErrorKind::Usage,
-                                 where + "a focused distance must be above 0 m (or inf)");
-            p.unit = "m";
-            p.dioptres = 1.0 / p.value;
-        } else {
-            p.unit = unit;
-        }
-        if (!rows.emplace(frame, p).second)
-            return makeError(ErrorKind::Usage,
-                             where + "frame " + cells[0] + " is given a second time");
-    }
-    std::vector<LensPosition> out;
-    for (const auto& [frame, p] : rows) {
-        if (frame != static_cast<long>(out.size()))
-            return makeError(ErrorKind::Usage, path + ": frame " + std::to_string(out.size()) +
-                                                   " has no row (frames count from 0, each once)");
-        out.push_back(p);
-    }
-    if (out.empty()) return makeError(ErrorKind::Usage, path + " holds no frame,position,unit row");
-    return out;
 }
 
 double StackResult::axisAt(double f) const {

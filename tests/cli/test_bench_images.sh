@@ -42,7 +42,9 @@ PY
 
 # On 1080p frames nothing is scaled, and the bench measures the regions `infocus analyze` does
 # (the same 16x9 grid of the same frames): the simulated camera, focused short of its scene.
-sim="sim:size=1920x1080,focus=0.3m"
+# Far enough short (a disc of about 20 px) that a tenth of the regions find no edge: at 0.3 m (9 px)
+# all but one or two do, and whether those do turns on the last digits of a render.
+sim="sim:size=1920x1080,focus=0.15m"
 b=$("$bin" bench --images "$sim" --frames 2 --seconds 0.01 --json 2>"$tmp/err")
 st=$?
 [[ $st -eq 0 ]] && ok || bad "bench --images sim exited $st: $(cat "$tmp/err")"

@@ -41,7 +41,7 @@ void recordSweep(const std::string& text, const std::vector<double>& dioptres,
     REQUIRE(s.start());
     for (double p : dioptres) {
         REQUIRE(control->set(p));
-        // The lens arrives one frame after a move (docs/recording.md): the settle frames pass.
+        // The lens shows a move some frames later (docs/recording.md): the settle frames pass.
         for (int i = 0; i < control->settleFrames(); ++i)
             REQUIRE(s.next());
         auto f = s.next();

@@ -233,7 +233,7 @@ TEST_CASE("a sweep finds each region's depth: planes at steps and a tilted plane
 }
 
 TEST_CASE("a sweep waits out the lens's settle frames", "[sweep][sim]") {
-    // The sim's lens reaches a new position one frame after the move (settleFrames 1), and a
+    // The sim's frames arrive two frames after their exposure (delay=2, settleFrames 2), and a
     // move asked for before then replaces it. Measured at once, no frame shows the position
     // asked for.
     auto src = openStarted("sim:size=320x180,pace=fast");
@@ -250,7 +250,7 @@ TEST_CASE("a sweep waits out the lens's settle frames", "[sweep][sim]") {
     REQUIRE(r->steps.size() == 3u);
     for (const SweepStep& s : r->steps)
         CHECK(s.lens.value != Approx(s.commanded));
-    o.settleFrames.reset();  // the control's own: 1
+    o.settleFrames.reset();  // the control's own: 2
     r = runSweep(*src, o);
     REQUIRE(r);
     for (const SweepStep& s : r->steps)

@@ -2,7 +2,8 @@
 // The simulated camera against the thin-lens model's thin-lens defocus model: the per-region disc
 // diameter equals ΔX_i computed independently here, a rendered edge rises 10–90 % over
 // 0.68705·d, the disc rendering equals a brute-force convolution of the interpolated texture,
-// focus moves after one settle frame, and frames are deterministic per seed.
+// focus moves after one settle frame with one frame in flight (delay=1), and frames are
+// deterministic per seed.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
@@ -254,7 +255,8 @@ TEST_CASE("every scene renders with its depth layout") {
 
 TEST_CASE("sim: source frames, focus control with one settle frame, determinism") {
     auto s = openSim(
-        "sim:scene=plane,distance=0.5m,focus=0.5m,size=64x48,pace=fast,noise=0.01,focal=25mm,"
+        "sim:scene=plane,distance=0.5m,focus=0.5m,size=64x48,pace=fast,noise=0.01,focal=25mm,delay="
+        "1,"
         "fnumber=1.4");
     REQUIRE(s.ok());
     FrameSource& src = **s;
