@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "drivers/common/mode_choice.h"
+#include "drivers/v4l2/media_lens.h"
 #include "drivers/v4l2/v4l2_device.h"
 
 namespace infocus::v4l2 {
@@ -104,8 +105,13 @@ class V4l2Source : public FrameSource {
 public:
     V4l2Source(Device dev, capture::Mode mode, int settle)
         : dev_(std::move(dev)), mode_(mode), pool_(std::make_shared<BufferPool>()) {
-        if (auto q = dev_.queryControl(V4L2_CID_FOCUS_ABSOLUTE))
+        if (auto q = dev_.queryControl(V4L2_CID_FOCUS_ABSOLUTE)) {
             focus_ = std::make_unique<V4l2Focus>(dev_, *q, settle);
+        } else if (auto lens = findLensOfVideoNode(dev_.path())) {
+            // A media-controller camera: the lens is a sub-device of the sensor feeding this node.
+            // One that cannot be opened leaves the camera without focus, as a node without one.
+            if (auto f = openLensFocus(*lens, settle)) focus_ = std::move(*f);
+        }
     }
     ~V4l2Source() override { stop(); }
 
@@ -369,7 +375,7 @@ private:
     Device dev_;
     capture::Mode mode_;
     std::shared_ptr<BufferPool> pool_;
-    std::unique_ptr<V4l2Focus> focus_;
+    std::unique_ptr<FocusControl> focus_;  // the node's FOCUS_ABSOLUTE or its lens sub-device's
     bool mplane_ = false;
     size_t stride_ = 0;
     TransferReport transfer_;  // what the format says of its grey levels
