@@ -22,7 +22,7 @@ struct LibcameraBackend {
 };
 
 /// Version of struct LibcameraBackend; raised whenever it changes.
-inline constexpr int kLibcameraBackendAbi = 1;
+inline constexpr int kLibcameraBackendAbi = 2;
 
 /// File name of the module and the name of its entry point.
 inline constexpr const char* kLibcameraModule = "infocus-libcamera.so";

@@ -24,6 +24,7 @@
 
 #include "drivers/common/mode_choice.h"
 #include "drivers/libcamera/libcamera_compat.h"
+#include "drivers/v4l2/media_lens.h"
 
 namespace infocus::libcam {
 
@@ -285,6 +286,9 @@ public:
         if (auto it = ctrls.find(&lc::controls::LensPosition); it != ctrls.end())
             focus_ = std::make_unique<LibcameraFocus>(
                 it->second, ctrls.find(&lc::controls::AfMode) != ctrls.end(), settle);
+        else if (auto lens = v4l2::findLensOfCamera(camera_->id()))
+            // The pipeline does not drive the sensor's lens (vimc): its sub-device directly.
+            if (auto f = v4l2::openLensFocus(*lens, settle)) lensFocus_ = std::move(*f);
         camera_->requestCompleted.connect(this, &LibcameraSource::onComplete);
         return {};
     }
@@ -370,7 +374,9 @@ public:
     }
 
     SourceStats stats() const override { return stats_; }
-    FocusControl* focusControl() override { return focus_.get(); }
+    FocusControl* focusControl() override {
+        return focus_ ? static_cast<FocusControl*>(focus_.get()) : lensFocus_.get();
+    }
 
 private:
     Status mapBuffer(const lc::FrameBuffer& buffer) {
@@ -439,8 +445,8 @@ private:
         if (auto lens = meta.get(lc::controls::LensPosition)) {
             f.lens = LensPosition{double(*lens), "dioptre", double(*lens)};
             if (focus_) focus_->observed(*lens);
-        } else if (focus_) {
-            if (auto p = focus_->get()) f.lens = *p;
+        } else if (FocusControl* focus = focusControl()) {
+            if (auto p = focus->get()) f.lens = *p;
         }
         if (auto exposure = meta.get(lc::controls::ExposureTime)) f.exposureS = *exposure * 1e-6;
         if (mode_.format == PixelFormat::MJPEG) {
@@ -484,6 +490,7 @@ private:
     std::vector<std::unique_ptr<lc::Request>> requests_;
     std::shared_ptr<BufferPool> pool_;
     std::unique_ptr<LibcameraFocus> focus_;
+    std::unique_ptr<FocusControl> lensFocus_;  // the sensor's lens sub-device, without focus_
     lc::Stream* stream_ = nullptr;
     size_t stride_ = 0;
     TransferReport transfer_;  // the stream's, from its colour space
@@ -581,12 +588,18 @@ Result<std::vector<DeviceInfo>> listLibcameraDevices() {
                 }
             };
             const auto& ci = it->second;
-            return DeviceControl{name,          unit,
-                                 num(ci.min()), num(ci.max()),
-                                 0.0,           ci.def().isNone() ? num(ci.min()) : num(ci.def()),
-                                 std::nullopt};
+            DeviceControl c;
+            c.name = name;
+            c.unit = unit;
+            c.min = num(ci.min());
+            c.max = num(ci.max());
+            c.defaultValue = ci.def().isNone() ? num(ci.min()) : num(ci.def());
+            return c;
         };
         info.focus = control(&lc::controls::LensPosition, "lens_position", "dioptre");
+        if (!info.focus)
+            if (auto lens = v4l2::findLensOfCamera(camera->id()))
+                info.focus = v4l2::describeLens(*lens);
         info.autofocusContinuous = ctrls.find(&lc::controls::AfMode) != ctrls.end();
         info.autofocusTrigger = ctrls.find(&lc::controls::AfTrigger) != ctrls.end();
         if (auto c = control(&lc::controls::ExposureTime, "exposure_time", "us"))

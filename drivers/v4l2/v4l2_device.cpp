@@ -11,6 +11,8 @@
 #include <cstring>
 #include <utility>
 
+#include "drivers/v4l2/media_lens.h"
+
 namespace infocus::v4l2 {
 
 namespace {
@@ -330,17 +332,19 @@ Result<DeviceInfo> describeDevice(const std::string& path) {
                        const char* unit) -> std::optional<DeviceControl> {
         auto q = dev->queryControl(cid);
         if (!q) return std::nullopt;
-        DeviceControl c{name,
-                        unit,
-                        double(q->minimum),
-                        double(q->maximum),
-                        double(q->step),
-                        double(q->default_value),
-                        std::nullopt};
+        DeviceControl c;
+        c.name = name;
+        c.unit = unit;
+        c.min = q->minimum;
+        c.max = q->maximum;
+        c.step = q->step;
+        c.defaultValue = q->default_value;
         if (auto v = dev->getControl(cid)) c.current = *v;
         return c;
     };
     info.focus = control(V4L2_CID_FOCUS_ABSOLUTE, "focus_absolute", "v4l2");
+    if (!info.focus)
+        if (auto lens = findLensOfVideoNode(path)) info.focus = describeLens(*lens);
     info.focusRelative = dev->queryControl(V4L2_CID_FOCUS_RELATIVE).has_value();
     info.autofocusContinuous = dev->queryControl(V4L2_CID_FOCUS_AUTO).has_value();
     info.autofocusTrigger = dev->queryControl(V4L2_CID_AUTO_FOCUS_START).has_value();

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "drivers/common/mode_choice.h"
+#include "drivers/v4l2/media_lens.h"
 #include "drivers/v4l2/v4l2_device.h"
 
 namespace infocus::v4l2 {
@@ -24,6 +25,8 @@ constexpr unsigned kBufferCount = 4;
 constexpr int kFrameTimeoutMs = 5000;
 // Frames a typical voice-coil lens needs to stop moving at 30 fps.
 constexpr int kDefaultSettleFrames = 2;
+// How often the input's signal status is read while streaming.
+constexpr int64_t kSignalCheckNs = 250'000'000;
 
 int64_t monotonicNowNs() {
     timespec ts{};
@@ -104,8 +107,13 @@ class V4l2Source : public FrameSource {
 public:
     V4l2Source(Device dev, capture::Mode mode, int settle)
         : dev_(std::move(dev)), mode_(mode), pool_(std::make_shared<BufferPool>()) {
-        if (auto q = dev_.queryControl(V4L2_CID_FOCUS_ABSOLUTE))
+        if (auto q = dev_.queryControl(V4L2_CID_FOCUS_ABSOLUTE)) {
             focus_ = std::make_unique<V4l2Focus>(dev_, *q, settle);
+        } else if (auto lens = findLensOfVideoNode(dev_.path())) {
+            // A media-controller camera: the lens is a sub-device of the sensor feeding this node.
+            // One that cannot be opened leaves the camera without focus, as a node without one.
+            if (auto f = openLensFocus(*lens, settle)) focus_ = std::move(*f);
+        }
     }
     ~V4l2Source() override { stop(); }
 
@@ -177,7 +185,8 @@ public:
     Status start() override {
         if (streaming_) return {};
         for (unsigned i = 0; i < pool_->buffers.size(); ++i)
-            if (Status s = queue(i); !s) return s;
+            if (Status s = requeue(i); !s) return s;
+        if (Status s = retryRefused(); !s) return s;
         uint32_t type = dev_.capability().bufType();
         if (int r = dev_.ioctl(VIDIOC_STREAMON, &type); r < 0) {
             if (r == -EPIPE && dev_.capability().mediaController())
@@ -188,9 +197,17 @@ public:
                                      "('infocus devices' lists it) or set the pipeline up "
                                      "with media-ctl",
                                  EPIPE);
-            return devError("VIDIOC_STREAMON", r);
+            if (r == -ENODEV) return devError("VIDIOC_STREAMON", r);
+            return makeError(ErrorKind::Device,
+                             dev_.path() +
+                                 ": the driver refused to start streaming "
+                                 "(VIDIOC_STREAMON: " +
+                                 errnoText(r) + ")",
+                             -r);
         }
         streaming_ = true;
+        signalLostNs_.reset();
+        nextSignalCheckNs_ = 0;
         if (focus_) {
             if (auto p = focus_->get()) lens_ = *p;
         }
@@ -208,6 +225,7 @@ public:
             return makeError(ErrorKind::Device, dev_.path() + ": the device was disconnected");
         requeueReturned();
         while (true) {
+            if (Status s = retryRefused(); !s) return s.error();
             pollfd p{dev_.fd(), POLLIN, 0};
             const int n = ::poll(&p, 1, kFrameTimeoutMs);
             if (n < 0 && errno == EINTR) continue;
@@ -240,13 +258,21 @@ public:
             stats_.dropped += gap;
             if (buf.flags & V4L2_BUF_FLAG_ERROR) {
                 ++stats_.errors;
-                if (Status s = queue(buf.index); !s) return s.error();
+                if (Status s = requeue(buf.index); !s) return s.error();
+                continue;
+            }
+            // Without a signal an input delivers noise, not a picture: skipped and counted as
+            // damaged, and the run ends when it does not come back.
+            if (Status s = checkSignal(); !s) return s.error();
+            if (signalLostNs_) {
+                ++stats_.errors;
+                if (Status s = requeue(buf.index); !s) return s.error();
                 continue;
             }
             auto frame = makeFrame(buf, planes);
             if (!frame) {
                 ++stats_.errors;
-                if (Status s = queue(buf.index); !s) return s.error();
+                if (Status s = requeue(buf.index); !s) return s.error();
                 continue;
             }
             ++stats_.delivered;
@@ -295,7 +321,66 @@ private:
             back.swap(pool_->returned);
         }
         for (unsigned i : back)
-            (void)queue(i);  // a failure shows at the next DQBUF
+            (void)requeue(i);  // fails only on a disconnect, which the next DQBUF reports
+    }
+
+    // Gives a buffer back to the driver. A refusal is counted as damage and the buffer tried again
+    // before the next wait (a driver may refuse one buffer once); only a disconnect fails here.
+    Status requeue(unsigned index) {
+        Status s = queue(index);
+        if (s || s.error().sysErrno == ENODEV) return s;
+        ++stats_.errors;
+        refused_.push_back(index);
+        refusedError_ = s.error().message;
+        return {};
+    }
+
+    // Queues the buffers the driver refused; a second refusal of the same buffer ends the run.
+    Status retryRefused() {
+        std::vector<unsigned> again;
+        again.swap(refused_);
+        for (unsigned index : again)
+            if (Status s = queue(index); !s) {
+                if (s.error().sysErrno == ENODEV) return s;
+                return makeError(ErrorKind::Device,
+                                 dev_.path() + ": the driver refused buffer " +
+                                     std::to_string(index) + " twice (" + s.error().message +
+                                     "; first: " + refusedError_ + ")",
+                                 s.error().sysErrno);
+            }
+        return {};
+    }
+
+    // Reads the input's status (VIDIOC_ENUMINPUT) at most every kSignalCheckNs: keeps when the
+    // signal was lost, and fails once it has been gone for kFrameTimeoutMs.
+    Status checkSignal() {
+        const int64_t now = monotonicNowNs();
+        if (now < nextSignalCheckNs_) return {};
+        nextSignalCheckNs_ = now + kSignalCheckNs;
+        v4l2_input in{};
+        int index = 0;
+        if (dev_.ioctl(VIDIOC_G_INPUT, &index) < 0) return {};
+        in.index = static_cast<uint32_t>(index);
+        if (dev_.ioctl(VIDIOC_ENUMINPUT, &in) < 0) return {};
+        const uint32_t lost =
+            V4L2_IN_ST_NO_POWER | V4L2_IN_ST_NO_SIGNAL | V4L2_IN_ST_NO_H_LOCK | V4L2_IN_ST_NO_SYNC;
+        if (!(in.status & lost)) {
+            signalLostNs_.reset();
+            return {};
+        }
+        if (!signalLostNs_) signalLostNs_ = now;
+        if (now - *signalLostNs_ < int64_t(kFrameTimeoutMs) * 1000000) return {};
+        const std::string what = (in.status & V4L2_IN_ST_NO_POWER)    ? "no power"
+                                 : (in.status & V4L2_IN_ST_NO_SIGNAL) ? "no signal"
+                                                                      : "no sync (horizontal lock)";
+        return makeError(
+            ErrorKind::Device,
+            dev_.path() + ": input " + std::to_string(index) + " (" +
+                std::string(reinterpret_cast<const char*>(in.name),
+                            strnlen(reinterpret_cast<const char*>(in.name), sizeof in.name)) +
+                ") has had " + what + " for " + std::to_string(kFrameTimeoutMs / 1000) +
+                " s (after " + std::to_string(stats_.delivered) +
+                " frames); connect a source to it or choose another input (input=N)");
     }
 
     // Wraps a dequeued buffer as a Frame: zero copy while the driver keeps a buffer to fill,
@@ -353,7 +438,7 @@ private:
             // The driver would starve: hand out a copy and give the buffer straight back.
             auto copy = copyFrame(f);
             // The buffer goes back to the driver whether or not the copy worked.
-            if (Status s = queue(buf.index); !s) return s.error();
+            if (Status s = requeue(buf.index); !s) return s.error();
             if (!copy) return copy.error();
             return *copy;
         }
@@ -369,11 +454,15 @@ private:
     Device dev_;
     capture::Mode mode_;
     std::shared_ptr<BufferPool> pool_;
-    std::unique_ptr<V4l2Focus> focus_;
+    std::unique_ptr<FocusControl> focus_;  // the node's FOCUS_ABSOLUTE or its lens sub-device's
     bool mplane_ = false;
     size_t stride_ = 0;
     TransferReport transfer_;  // what the format says of its grey levels
     unsigned queued_ = 0;
+    std::vector<unsigned> refused_;        // buffers the driver refused, to queue again
+    std::string refusedError_;             // why, for the message if it refuses again
+    std::optional<int64_t> signalLostNs_;  // when the input was first seen without a signal
+    int64_t nextSignalCheckNs_ = 0;
     bool streaming_ = false;
     bool gone_ = false;
     capture::SequenceTracker seq_;

@@ -40,6 +40,11 @@ struct DeviceControl {
     double step = 0.0;  ///< 0 when continuous
     double defaultValue = 0.0;
     std::optional<double> current;  ///< the value now, when readable
+    /// The node the control is on when it is not the camera's own (a lens sub-device,
+    /// `/dev/v4l-subdev2`); empty otherwise.
+    std::string device;
+    /// What that node is, for people: "Lens A of Sensor A" (media-controller entity names).
+    std::string lens;
 };
 
 /// One camera: a V4L2 capture node or a libcamera camera.

@@ -36,6 +36,9 @@ nlohmann::ordered_json controlJson(const DeviceControl& c) {
     j["step"] = c.step;
     j["default"] = c.defaultValue;
     j["current"] = c.current ? nlohmann::ordered_json(*c.current) : nlohmann::ordered_json();
+    // A lens sub-device's node; null for the camera's own controls.
+    j["device"] = c.device.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(c.device);
+    j["lens"] = c.lens.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(c.lens);
     return j;
 }
 
@@ -44,6 +47,7 @@ std::string controlText(const DeviceControl& c) {
     if (c.step > 0) s += " step " + number(c.step);
     s += " (" + c.unit + ")";
     if (c.current) s += ", now " + number(*c.current);
+    if (!c.device.empty()) s += ", on " + c.device + (c.lens.empty() ? "" : " (" + c.lens + ")");
     return s;
 }
 

@@ -106,6 +106,118 @@ def check_host(folder):
     return 0 if ok else 1
 
 
+def devs_a(t):
+    try:
+        return json.loads(text(t, "a", "out") or "[]")
+    except ValueError:
+        return []
+
+
+def check_lens(t, devs, part):
+    """i. the lens sub-devices devices lists, and live stepping them through the web face."""
+    vimc = dict(kv.split("=", 1) for kv in " ".join(t.get("vimc", [])).split() if "=" in kv)
+    raw0 = [d for d in devs if d.get("device") == vimc.get("raw0")]
+    lc = [d for d in devs if d.get("backend") == "libcamera" and "vimc" in d.get("device", "")]
+
+    def lens_ok(cams, node):
+        f = cams[0].get("focus") if cams else None
+        return bool(f) and bool(node) and f.get("device") == node and f.get("min") == 0 \
+            and f.get("max") == 1023 and f.get("step") == 1 and f.get("unit") == "v4l2"
+
+    def shown(cams):
+        f = cams[0].get("focus") if cams else None
+        return "none" if not f else \
+            f"{f.get('device')} ({f.get('lens')}) {f.get('min'):g}..{f.get('max'):g} step {f.get('step'):g}"
+
+    part("i devices lists the lens", lens_ok(raw0, vimc.get("lensA")) and lens_ok(lc, vimc.get("lensB")),
+         f"{vimc.get('raw0')} focus {shown(raw0)}; libcamera {lc[0]['device'] if lc else None} "
+         f"focus {shown(lc)}")
+    print("INFO i vimc's image does not change with the lens position: the lens steps test the "
+          "control path only (set, read back by infocus and by v4l2-ctl on the sub-device)")
+    for tag, name, node in (("i_v4l2", f"v4l2 {vimc.get('raw0')}", vimc.get("lensA")),
+                            ("i_lc", "libcamera:0", vimc.get("lensB"))):
+        num = lambda line: (lambda m: int(m.group(1)) if m else None)(
+            re.search(r"focus_absolute: (-?\d+)", line))
+        before = num(" ".join(t.get(f"{tag}.before", [])))
+        steps = t.get(f"{tag}.step", [])
+        read = [num(line) for line in steps]
+        replies_ok = all("reply=" in line and "error" not in line.split("reply=", 1)[1]
+                         and line.split("reply=", 1)[1].strip() for line in steps)
+        rows = jsonl(t, tag)
+        last_lens = (rows[-1].get("lens_position") or {}).get("value") if rows else None
+        want = [before + 3 * k for k in (1, 2, 3)] if before is not None else None
+        ok = rc(t, tag) == 0 and len(steps) == 3 and read == want and replies_ok \
+            and last_lens == (want[-1] if want else None) and bool(rows) \
+            and rows[-1].get("has_focus_control") is not False
+        part(f"i live steps the lens ({name})", ok,
+             f"{node}: before {before}, read back after each focus_step 3: {read}; "
+             f"last state lens_position {last_lens}; exit {rc(t, tag)}, {len(rows)} states" +
+             ("" if ok else "; " + (" | ".join(steps) + " " + text(t, tag, "err")).strip()[:300]))
+
+
+def recorded(t, tag):
+    """(frames, dropped, damaged) record printed, or None; and the frames its replay read."""
+    m = re.search(r"recorded (\d+) frames .*?(\d+) dropped, (\d+) damaged", text(t, tag + "_rec", "out"))
+    rec = tuple(int(g) for g in m.groups()) if m else None
+    return rec, len(jsonl(t, tag + "_replay"))
+
+
+# j. what each fault must do: "runs" (exit 0, faults counted) or "ends" (exit 1 naming the device
+# and the fault, the words given)
+FAULTS = [("none", "no fault (the emulated machine's drops)", "runs", None),
+          ("streamon", "an error when streaming starts", "ends", "refused to start streaming"),
+          ("qbuf", "errors on queueing buffers", "runs", None),
+          ("drop10", "10 % dropped buffers", "runs", None),
+          ("drop50", "50 % dropped buffers", "runs", None),
+          ("reduced", "reduced frame rate (HDMI)", "runs", None),
+          ("nosignal", "loss of signal (HDMI)", "ends", "no signal"),
+          ("busy", "format change refused (busy)", "ends", "busy")]
+
+
+def check_faults(t, part):
+    cap = " ".join(t.get("j_cap", [])).strip() or "?"
+    print(f"INFO j {'fault':32} | {'live --ui json':58} | record")
+    for name, what, expect, words in FAULTS:
+        tag = f"j_{name}"
+        rows = jsonl(t, tag + "_live")
+        last = rows[-1] if rows else {}
+        lerr = text(t, tag + "_live", "err").strip()
+        rerr = text(t, tag + "_rec", "err").strip()
+        (rec, replayed) = recorded(t, tag)
+        kept = rec is None or rec[0] == replayed
+        if expect == "ends":
+            live_ok = rc(t, tag + "_live") == 1 and cap in lerr and words in lerr
+            rec_ok = rc(t, tag + "_rec") == 1 and cap in rerr and words in rerr and kept
+            live = f"exit {rc(t, tag + '_live')} after {len(rows)} states: {lerr[-160:]}"
+        else:
+            live_ok = rc(t, tag + "_live") == 0 and len(rows) >= 2 and last.get("frame", 0) > 0
+            if name.startswith("drop"):
+                live_ok = live_ok and last.get("dropped", 0) >= 1
+                rec_ok = rec is not None and rec[1] >= 1
+            elif name == "qbuf":
+                rec_ok = rec is not None and rec[2] >= 1
+            else:
+                rec_ok = rec is not None
+            rec_ok = rec_ok and rc(t, tag + "_rec") == 0 and kept
+            live = f"exit {rc(t, tag + '_live')}, {len(rows)} states, frame {last.get('frame')}, " \
+                   f"{last.get('fps', 0):.1f} fps, dropped {last.get('dropped')}, status " \
+                   f"'{last.get('status', '')}'"
+        if rec:
+            share = rec[1] / (rec[0] + rec[1]) if rec[0] + rec[1] else 0
+            record = f"exit {rc(t, tag + '_rec')}: {rec[0]} frames ({replayed} replayed), " \
+                     f"{rec[1]} dropped ({100 * share:.0f} %), {rec[2]} damaged" + \
+                     (f"; {rerr[-160:]}" if rerr else "")
+        else:
+            record = f"exit {rc(t, tag + '_rec')}: {rerr[-200:]}"
+        part(f"j {what:32}", live_ok and rec_ok, f"{live} | {record}")
+    said = {c: text(t, f"j_unoffered_{c}", "err").strip() for c in ("live", "rec")}
+    part("j format the device does not offer",
+         all(rc(t, f"j_unoffered_{c}") == 1 and cap in said[c] and "MJPEG" in said[c]
+             for c in said),
+         f"live exit {rc(t, 'j_unoffered_live')}: {said['live'][:160]} | record exit "
+         f"{rc(t, 'j_unoffered_rec')}: {said['rec'][:80]}")
+
+
 def main():
     t = parse(sys.argv[1])
     results = []
@@ -253,6 +365,12 @@ def main():
     rows = jsonl(t, "g_unplug")
     part("g live disconnect", rc(t, "g_unplug") == 1 and "disconnected" in err and len(rows) >= 1,
          f"exit {rc(t, 'g_unplug')} after {len(rows)} states: {err.strip()[:300]}")
+    check_lens(t, devs_a(t), part)
+    check_faults(t, part)
+    # How long each part took in the VM (seconds since boot when it started), for the budget.
+    times = [(line.split()[0], float(line.split()[1])) for line in t.get("time", [])]
+    print("INFO time per part (s): " + ", ".join(
+        f"{a} {b[1] - a_t:.0f}" for (a, a_t), b in zip(times, times[1:])))
     passed = sum(results)
     print(f"{passed} passed, {len(results) - passed} failed")
     return 0 if results and all(results) else 1

@@ -24,12 +24,14 @@ done
 
 # The libcamera backend is a module infocus loads on demand; a build without libcamera has none.
 lcmod=drivers/libcamera/infocus-libcamera.so
+webmod=src/live/web/infocus-web.so
 if [[ ! -x "$build/src/cli/infocus" || ! -x "$build/tests/drivers/infocus_vm_blur_frames" ||
-	! -f "$build/$lcmod" ]]; then
+	! -f "$build/$lcmod" || ! -f "$build/$webmod" ]]; then
 	[[ -f "$build/build.ninja" ]] || meson setup "$build" "$root" >&2 || die "meson setup failed"
 	ninja -C "$build" -t query "$lcmod" >/dev/null 2>&1 || lcmod=""
+	ninja -C "$build" -t query "$webmod" >/dev/null 2>&1 || webmod=""
 	ninja -C "$build" -j2 src/cli/infocus tests/drivers/infocus_vm_blur_frames \
-		tests/drivers/test_drivers_v4l2_device $lcmod >&2 || die "building infocus failed"
+		tests/drivers/test_drivers_v4l2_device $lcmod $webmod >&2 || die "building infocus failed"
 fi
 
 work="$build/vm"
@@ -42,7 +44,7 @@ rm -rf "$rd"
 mkdir -p "$rd"/{bin,sbin,etc,proc,sys,dev,tmp,run,mods,data}
 cp /bin/busybox "$rd/bin/busybox"
 for a in sh mount umount insmod sleep echo cat ls kill grep sed head tail wc rm mkdir poweroff \
-	seq cut tr ln sync dmesg cmp awk; do ln -sf busybox "$rd/bin/$a"; done
+	seq cut tr ln sync dmesg cmp awk ip wget pidof timeout; do ln -sf busybox "$rd/bin/$a"; done
 
 copy_with_libs() {  # copies a program (unless it is in the initramfs already) and its libraries
 	local f=$1
@@ -66,6 +68,13 @@ if [[ -f "$build/drivers/libcamera/infocus-libcamera.so" ]]; then
 	strip -s "$rd/bin/infocus-libcamera.so" 2>/dev/null
 fi
 copy_with_libs "$(command -v v4l2-ctl)"
+copy_with_libs "$(command -v media-ctl)"
+# The web face (part i steps the lens through it).
+if [[ -f "$build/src/live/web/infocus-web.so" ]]; then
+	cp "$build/src/live/web/infocus-web.so" "$rd/bin/"
+	copy_with_libs "$rd/bin/infocus-web.so"
+	strip -s "$rd/bin/infocus-web.so" 2>/dev/null
+fi
 [[ -x "$build/tests/drivers/test_drivers_v4l2_device" ]] &&
 	cp "$build/tests/drivers/test_drivers_v4l2_device" "$rd/bin/" && copy_with_libs "$rd/bin/test_drivers_v4l2_device"
 # The GStreamer element on vivid: gst-launch-1.0 with the two plugins its pipeline uses (the
@@ -121,7 +130,7 @@ chmod +x "$rd/init"
 # --- boot ---------------------------------------------------------------------------------------
 log="$work/console.log"
 start=$(date +%s)
-timeout 280 qemu-system-x86_64 -accel tcg -m 1024 -smp 2 -nographic -no-reboot \
+timeout 600 qemu-system-x86_64 -accel tcg -m 1024 -smp 2 -nographic -no-reboot \
 	-kernel "/boot/vmlinuz-$kver" -initrd "$work/initrd.gz" \
 	-append "console=ttyS0 quiet loglevel=3 panic=-1" </dev/null >"$log" 2>&1
 echo "vm: booted $kver, ran in $(($(date +%s) - start)) s; console log: $log" >&2
