@@ -121,11 +121,13 @@ def discover(paths):
 def content_hash(files, root):
     """BLAKE2b-128 of the files' names (relative to @p root) and bytes, in order, as hex."""
     h = hashlib.blake2b(digest_size=16)
+    buf = bytearray(HASH_CHUNK)  # one buffer for every read: no allocation a chunk
+    view = memoryview(buf)
     for f in files:
         name = os.path.relpath(f, root).encode()
         h.update(len(name).to_bytes(8, "little") + name)
-        with open(f, "rb") as fp:
+        with open(f, "rb", buffering=0) as fp:
             h.update(os.fstat(fp.fileno()).st_size.to_bytes(8, "little"))
-            while chunk := fp.read(HASH_CHUNK):
-                h.update(chunk)
+            while n := fp.readinto(buf):
+                h.update(view[:n])
     return h.hexdigest()
