@@ -83,3 +83,15 @@ def test_stack_table_matches_infocus_stack(cli, batch, data_dir, tmp_path):
         assert rows[(g["row"], g["col"])] == (g["status"], g["peak_frame"],
                                               g["blur_peak_frame"],
                                               None if g["agree"] is None else int(g["agree"]))
+
+
+def test_usage_errors_name_the_problem(batch, tmp_path):
+    db = str(tmp_path / "r.sqlite")
+    r = run(batch + [str(tmp_path / "missing"), "-o", db])
+    assert r.returncode == 2 and "missing does not exist" in r.stderr, r.stderr
+    r = run(batch + [str(tmp_path), "-o", db, "--grid", "0x9"])
+    assert r.returncode == 2 and "0x9" in r.stderr, r.stderr
+    r = run(batch + ["export", str(tmp_path / "none.sqlite")])
+    assert r.returncode == 2 and "does not exist" in r.stderr, r.stderr
+    r = run(batch + ["export", db, "--format", "xml"])
+    assert r.returncode == 2 and "xml" in r.stderr, r.stderr

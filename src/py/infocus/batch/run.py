@@ -212,7 +212,11 @@ def _schedule(args, client, store, sources, grid, stack_grid, grid_text):
     for s in sources:
         if s.path in checks:
             fut, old = checks[s.path]
-            if fut.result()["hash"] == old:
+            try:
+                same = fut.result()["hash"] == old
+            except Exception:  # noqa: BLE001  (its worker died: analyse it again)
+                same = False
+            if same:
                 skipped += 1
             else:
                 todo.append(s)
