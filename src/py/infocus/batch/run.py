@@ -235,7 +235,8 @@ def _schedule(args, client, store, sources, grid, stack_grid, grid_text):
             store.fail(p.source.path, error, version)
             failed += 1
         else:
-            store.complete(p.source.path, records, digest, version, grid_text, stack)
+            seconds = sum(q.get("seconds", 0.0) for q in p.parts)
+            store.complete(p.source.path, records, digest, version, grid_text, stack, seconds)
         progress.add(len(records), bool(error))
 
     for s in todo:

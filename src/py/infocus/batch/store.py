@@ -21,7 +21,8 @@ CREATE TABLE IF NOT EXISTS sources (
     finished REAL,                      -- Unix time written
     infocus_version TEXT,
     grid TEXT,                          -- CxR it was analysed with
-    stack INTEGER NOT NULL DEFAULT 0    -- 1 when --stack
+    stack INTEGER NOT NULL DEFAULT 0,   -- 1 when --stack
+    worker_seconds REAL                 -- its tasks' time on the workers, summed
 );
 CREATE INDEX IF NOT EXISTS sources_status ON sources (status);
 CREATE TABLE IF NOT EXISTS frames (
@@ -138,7 +139,8 @@ class Store:
                 self.db.execute(
                     "UPDATE sources SET kind = ?, size = ?, mtime_ns = ?, hash = NULL, "
                     "frames = NULL, status = 'queued', error = NULL, started = ?, finished = NULL,"
-                    " infocus_version = NULL WHERE id = ?", (kind, size, mtime, now, sid))
+                    " infocus_version = NULL, worker_seconds = NULL WHERE id = ?",
+                    (kind, size, mtime, now, sid))
             self.db.execute("COMMIT")
         except BaseException:
             self.db.execute("ROLLBACK")
@@ -158,7 +160,7 @@ class Store:
             self.db.execute("ROLLBACK")
             raise
 
-    def complete(self, path, records, digest, version, grid, stack=None):
+    def complete(self, path, records, digest, version, grid, stack=None, seconds=None):
         """Writes the source's frames (the records of `infocus analyze`, parsed, in order), their
         regions and the stack when given, and marks it done: one transaction."""
         self.db.execute("BEGIN IMMEDIATE")
@@ -182,8 +184,9 @@ class Store:
                 self._stack(sid, json.loads(stack))
             self.db.execute(
                 "UPDATE sources SET status = 'done', error = NULL, hash = ?, frames = ?, "
-                "finished = ?, infocus_version = ?, grid = ?, stack = ? WHERE id = ?",
-                (digest, len(frames), time.time(), version, grid, int(stack is not None), sid))
+                "finished = ?, infocus_version = ?, grid = ?, stack = ?, worker_seconds = ? "
+                "WHERE id = ?", (digest, len(frames), time.time(), version, grid,
+                                 int(stack is not None), seconds, sid))
             self.db.execute("COMMIT")
         except BaseException:
             self.db.execute("ROLLBACK")
