@@ -98,7 +98,9 @@ def analyze_range(path, start, count, grid, files=None, root=None):
         if damaged or errors:
             n = max(len(damaged), errors)
             first = damaged[0] if damaged else "the source reported a damaged frame"
-            out["error"] = f"{n} damaged frame(s) skipped, the first: {first}"
+            first = first.removeprefix("skipped a damaged frame: ")
+            out["error"] = (f"{n} damaged frame(s), the first: {first}; `infocus analyze` "
+                            "measures the intact frames of a damaged source")
     except Exception as e:  # noqa: BLE001
         out["error"] = str(e)
     out["seconds"] = time.perf_counter() - t0
