@@ -109,12 +109,14 @@ class Progress:
 
 
 def _ranges(frames, k):
-    """[(start, count)] splitting @p frames into at most @p k ranges (count 0: to the end)."""
+    """[(start, count)] splitting @p frames into at most @p k ranges; the last runs to the end
+    (count 0), so that a source longer than it said loses no frame."""
     if not frames or k <= 1:
         return [(0, 0)]
     k = min(k, frames)
     size = math.ceil(frames / k)
-    return [(s, min(size, frames - s)) for s in range(0, frames, size)]
+    starts = list(range(0, frames, size))
+    return [(s, size) for s in starts[:-1]] + [(starts[-1], 0)]
 
 
 class Pending:
@@ -293,7 +295,7 @@ def _schedule(args, client, store, sources, grid, stack_grid, grid_text):
             finish(p, p.error, version=version)
             continue
         p.parts.sort(key=lambda q: q["start"])
-        records = [line for q in p.parts for line in q["records"]]
+        records = [rec for q in p.parts for rec in q["records"]]
         digest = next(q["hash"] for q in p.parts if q["start"] == 0)
         stack = p.parts[0].get("stack")
         if not records:
