@@ -19,6 +19,9 @@ test_pkgs=(clang-format tmux
 	clang libclang-rt-dev) # clang: the fuzzers (scripts/fuzz.sh) and --sanitize=clang
 # The Python module (src/py): pybind11 and Python's headers to build it, NumPy to run it.
 pkgs+=(pybind11-dev python3-dev python3-numpy)
+# Running infocus-batch (src/py/infocus/batch): Dask distributed, its local cluster, scheduler and
+# workers (brings python3-dask); without it only infocus-batch is missing.
+pkgs+=(python3-distributed)
 # Tests only: the Python module's suite, and OpenCV from Python for the bench's python baseline.
 test_pkgs+=(python3-pytest python3-opencv)
 # The focusmeter element (src/gstreamer): GStreamer's headers to build it, its tools and base and

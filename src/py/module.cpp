@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The `infocus` Python module: thin bindings of the library (src/py/*.cpp register its parts).
+// The extension `infocus._infocus`: thin bindings of the library (src/py/*.cpp register its parts);
+// the package `infocus` (src/py/infocus/__init__.py) re-exports them.
 #include <Python.h>
 
 #include "infocus_config.h"
@@ -38,7 +39,7 @@ void Progress::rethrow() {
 
 }  // namespace infocus::py
 
-PYBIND11_MODULE(infocus, m) {
+PYBIND11_MODULE(_infocus, m) {
     m.doc() =
         "Per-region sharpness and blur width of camera frames, and the thin-lens optics that "
         "turn blur into distance (the library behind the `infocus` command).";
