@@ -141,9 +141,10 @@ struct LiveState {
     bool liveCamera = false;
 
     // Throughput over the last second.
-    double fps = 0.0;           ///< frames analysed per second
-    uint64_t dropped = 0;       ///< camera gaps since start (sequence numbers missing)
-    uint64_t skipped = 0;       ///< frames delivered that the analysis never took (newer came)
+    double fps = 0.0;      ///< frames analysed per second
+    uint64_t dropped = 0;  ///< camera gaps since start (sequence numbers missing)
+    uint64_t damaged = 0;  ///< frames skipped as damaged (error-flagged, refused, without signal)
+    uint64_t skipped = 0;  ///< frames delivered that the analysis never took (newer came)
     double latencyP50Ms = 0.0;  ///< capture timestamp (or arrival) to publication, median
     double latencyP99Ms = 0.0;  ///< … 99th percentile
 

@@ -31,6 +31,7 @@ std::string liveStateJson(const LiveState& s) {
     j["height"] = s.height;
     j["fps"] = s.fps;
     j["dropped"] = s.dropped;
+    j["damaged"] = s.damaged;
     j["skipped"] = s.skipped;
     j["latency_p50_ms"] = s.latencyP50Ms;
     j["latency_p99_ms"] = s.latencyP99Ms;

@@ -28,10 +28,11 @@ failures = []
 # Every field of the HTTP contract's /state.
 STATE_FIELDS = [
     'frame', 'source', 'sequence', 'live_camera', 'has_focus_control', 'focus_range', 'peaking',
-    'roi', 'magnifier', 'preview', 'elapsed_s', 'width', 'height', 'fps', 'dropped', 'skipped',
+    'roi', 'magnifier', 'preview', 'elapsed_s', 'width', 'height', 'fps', 'dropped', 'damaged',
+    'skipped',
     'latency_p50_ms', 'latency_p99_ms', 'metric', 'score', 'peak', 'percent_of_peak', 'trend',
     'past_peak', 'blur_px', 'blur_um', 'lens_position', 'in_focus_distance_m',
-    'autofocus_running', 'coc_px', 'coc_from_lens', 'diffraction_px', 'regions_with_blur',
+    'autofocus_running', 'autofocus', 'coc_px', 'coc_from_lens', 'diffraction_px', 'regions_with_blur',
     'regions_in_coc', 'dof_near_m', 'dof_far_m', 'in_focus_line', 'tilt_deg', 'status',
     'history', 'history_peak', 'grid', 'regions']
 

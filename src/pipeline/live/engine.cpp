@@ -333,6 +333,7 @@ private:
             slot_ = Captured{std::move(*frame), monotonicNs(), ++captureSerial_, captureS};
             if (afActive_) afSlot_ = *slot_;
             dropped_ = stats.dropped;
+            sourceDamaged_ = stats.errors;
             cv_.notify_all();
         }
         {
@@ -475,6 +476,7 @@ private:
     void publish(std::shared_ptr<LiveState> s, uint64_t serial) {
         std::lock_guard lock(mutex_);
         s->dropped = dropped_;
+        s->damaged = damaged_ + sourceDamaged_;
         s->skipped = skipped_;
         if (afDoneAfter_ && serial > *afDoneAfter_) {
             autofocusRunning_ = false;
@@ -586,7 +588,7 @@ private:
     Status endStatus_;
     std::optional<Captured> slot_;    // the newest frame, not yet analysed
     std::optional<Captured> afSlot_;  // the newest frame, for autofocus
-    uint64_t skipped_ = 0, dropped_ = 0, damaged_ = 0;
+    uint64_t skipped_ = 0, dropped_ = 0, damaged_ = 0, sourceDamaged_ = 0;
     std::shared_ptr<const LiveState> state_;
     std::string status_;
     bool autofocusRunning_ = false;  // a one-shot autofocus has not ended yet
