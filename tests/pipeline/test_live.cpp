@@ -271,3 +271,40 @@ TEST_CASE("controls refuse what they cannot do, with the reason") {
     (*p)->stop();
     CHECK_FALSE((*p)->focusStep(1));
 }
+
+TEST_CASE("continuous autofocus follows a plane moving from 1 m to 0.5 m") {
+    // In focus at the start; the plane then comes to 0.5 m in 4 s of the sim's own time.
+    auto p = openLive("sim:focal=16mm,fnumber=1.4,distance=1m,focus=1m,move=0.5m:4s");
+    REQUIRE(p->setContinuousAutofocus(true));
+    const SourceInfo info = p->info();
+    REQUIRE(info.optics);
+    const double f = info.optics->focalLengthM, pitch = info.optics->pixelPitchM;
+    const double fps = info.fps;
+    // The disc of the plane at time t with the lens at D dioptres, in pixels.
+    const auto discPx = [&](double t, double D) {
+        const double distance = 1.0 - 0.5 * std::min(t, 4.0) / 4.0;
+        const double zs = 1.0 / (1.0 / f - D);
+        return f / info.optics->fNumber * zs * std::abs(D - 1.0 / distance) / pitch;
+    };
+    int frames = 0, inCoc = 0, stillInCoc = 0;
+    double coc = 0;
+    const auto deadline = std::chrono::steady_clock::now() + 60s;
+    for (;;) {
+        auto s = nextStates(*p, 1).front();
+        const double t = static_cast<double>(s->sequence) / fps;
+        if (t > 5.0 || std::chrono::steady_clock::now() > deadline) break;
+        if (t < 1.0 || !s->lens || !s->lens->dioptres) continue;
+        coc = s->cocPx;
+        ++frames;
+        inCoc += discPx(t, *s->lens->dioptres) <= coc;
+        stillInCoc += discPx(t, 1.0) <= coc;  // a lens left where it started
+    }
+    const double share = frames ? static_cast<double>(inCoc) / frames : 0.0;
+    std::printf(
+        "continuous autofocus on a plane moving 1 m -> 0.5 m in 4 s: %d of %d frames after the "
+        "first second within the CoC (%.1f px), %.0f %%; a still lens: %d\n",
+        inCoc, frames, coc, 100.0 * share, stillInCoc);
+    CHECK(frames > 30);
+    CHECK(inCoc > stillInCoc);
+    p->stop();
+}
