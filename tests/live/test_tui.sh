@@ -62,7 +62,7 @@ check_view() {
 	# Colour: the heat map paints cell backgrounds.
 	tm capture-pane -e -p -t "$name" | grep -qE $'\e''\[[0-9;]*(4[0-7]|48;5;[0-9]+)m' &&
 		ok || bad "$name: no coloured cells"
-	grep -q '←/→ focus  Shift ×10  a autofocus  r reset peak  g grid  p peaking  q quit' <<<"$s" &&
+	grep -q '←/→ focus  a autofocus  c continuous  r reset  g grid  p peaking  q quit' <<<"$s" &&
 		ok || bad "$name: no help line"
 	grep -qE "^ sim:focal=.*latency [0-9.]+/[0-9.]+ ms" <<<"$s" && ok ||
 		bad "$name: no title with the latency"

@@ -221,10 +221,8 @@ void drawScreen(const LiveState* state, const ScreenNotes& notes) {
     mvhline(0, 0, ' ', w);
     mvhline(h - 1, 0, ' ', w);
     attroff(bar);
-    put(h - 1, 1,
-        "←/→ focus  Shift ×10  a autofocus  c continuous AF  r reset peak  g grid  p peaking  q "
-        "quit",
-        w, bar);
+    put(h - 1, 1, "←/→ focus  a autofocus  c continuous  r reset  g grid  p peaking  q quit", w,
+        bar);
     if (!state) {
         put(0, 1, "infocus live: waiting for the first frame…", w, bar | A_BOLD);
         if (!notes.status.empty()) put(2, 1, notes.status, w, colour(kRed) | A_BOLD);
