@@ -44,7 +44,17 @@ for r in gst:
     assert r["cpu_cores"] > 0 and r["baseline_cpu_cores"] > 0, r
     assert abs(r["added_cores"] - (r["cpu_cores"] - r["baseline_cpu_cores"])) < 1e-9, r
     assert r["targets"] and all(isinstance(t["met"], bool) for t in r["targets"]), r
-rows = [r for r in rows if r["what"] not in ("live", "gstreamer")]
+# The autofocus row: frames and errors of autofocus and of the contrast schedule, same runs.
+af = [r for r in rows if r["what"] == "autofocus"]
+assert len(af) == 1, af
+a = af[0]
+for k in ("frames_median", "frames_worst", "error_dpt_worst", "baseline_frames_median",
+          "baseline_frames_worst", "baseline_error_dpt_worst"):
+    assert k in a and a[k] >= 0, (k, a)
+assert 0 < a["frames_median"] <= a["frames_worst"], a
+assert 0 < a["baseline_frames_median"] <= a["baseline_frames_worst"], a
+assert a["runs"] == 42 and 0 <= a["in_focus"] <= 42 and 0 <= a["baseline_in_focus"] <= 42, a
+rows = [r for r in rows if r["what"] not in ("live", "gstreamer", "autofocus")]
 for r in rows:
     for k in ("what", "width", "height", "ms"):
         assert k in r, (k, r)
