@@ -5,13 +5,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <thread>
 
 #include "infocus/analysis.h"
 #include "infocus/blur.h"
 #include "infocus/luma.h"
 #include "infocus/metrics.h"
-#include "src/core/share_workers.h"
 
 namespace infocus {
 
@@ -84,7 +84,6 @@ struct Analyzer::Impl {
     LumaConverter converter;
     double noiseSigma = 0.0;
     std::vector<BlurTracker> trackers;  // one per share of the regions (blurSearchesPerFrame > 0)
-    ShareWorkers workers;               // the blur's shares beyond the first
 };
 
 namespace {
@@ -258,7 +257,12 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
                 r.haloFraction = b.haloFraction;
             }
         };
-        impl_->workers.run(threads, work);
+        std::vector<std::future<void>> jobs;
+        for (unsigned t = 1; t < threads; ++t)
+            jobs.push_back(std::async(std::launch::async, work, t));
+        work(0);
+        for (auto& j : jobs)
+            j.get();
         a.sharpeningHalo = sharpeningHalo(a.regions);
         a.times.blurS = secondsSince(t);
     }
