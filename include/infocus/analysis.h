@@ -149,6 +149,10 @@ struct AnalysisOptions {
     /// kLiveBlurSearchesPerFrame searches in kLiveBlurSearchBudgetS a frame, so that it keeps up
     /// with the camera; other sources keep @ref blurSearchesPerFrame.
     bool trackLiveCamera = false;
+    /// Threads the blur of a frame is shared over; 0: one per core. Frames analysed in
+    /// parallel (several jobs, a cluster's workers) use fewer each, so that together they fill
+    /// the cores once. Results do not depend on it unless the blur is tracked.
+    unsigned threads = 0;
 };
 
 /// Analyses frames one after another, reusing its buffers and JPEG decoder. Not thread-safe

@@ -192,9 +192,12 @@ Status analyzeSourceFrames(std::string_view source, const AnalysisOptions& optio
     const bool parallel = stream.jobs > 1 && !info.liveCamera && used.blurSearchesPerFrame == 0;
     std::vector<std::unique_ptr<Analyzer>> analyzers;
     if (parallel) {
-        analyzers.push_back(std::move(*analyzer));
-        for (unsigned j = 1; j < stream.jobs; ++j) {
-            auto more = Analyzer::create(used);
+        // The jobs share the cores: each analyser takes its part of them, not all.
+        AnalysisOptions each = used;
+        if (each.threads == 0)
+            each.threads = std::max(1u, std::thread::hardware_concurrency() / stream.jobs);
+        for (unsigned j = 0; j < stream.jobs; ++j) {
+            auto more = Analyzer::create(each);
             if (!more) return more.error();
             analyzers.push_back(std::move(*more));
         }

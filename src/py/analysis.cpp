@@ -193,8 +193,9 @@ struct Request {
 
 Request request(std::pair<int, int> grid, const std::string& metric, bool blur,
                 const std::optional<std::vector<std::array<int, 4>>>& roi,
-                const std::optional<Lens>& lens, const std::string& transfer) {
+                const std::optional<Lens>& lens, const std::string& transfer, unsigned threads) {
     Request q;
+    q.options.threads = threads;
     q.options.cols = grid.first;
     q.options.rows = grid.second;
     q.options.metric = metric;
@@ -409,23 +410,24 @@ void registerAnalysis(pb::module_& m) {
         "analyze",
         [](const pb::object& frame, std::pair<int, int> grid, const std::string& metric, bool blur,
            const std::optional<std::vector<std::array<int, 4>>>& roi,
-           const std::optional<Lens>& lens, const std::string& transfer) {
-            return analyzeOne(frame, request(grid, metric, blur, roi, lens, transfer));
+           const std::optional<Lens>& lens, const std::string& transfer, unsigned threads) {
+            return analyzeOne(frame, request(grid, metric, blur, roi, lens, transfer, threads));
         },
         pb::arg("frame"), pb::arg("grid") = std::pair<int, int>{16, 9}, pb::arg("metric") = "teng",
         pb::arg("blur") = true, pb::arg("roi") = pb::none(), pb::arg("lens") = pb::none(),
-        pb::arg("transfer") = "linear",
+        pb::arg("transfer") = "linear", pb::arg("threads") = 0,
         "Measures one frame (a 2-D uint8, uint16 or float32 array, or an infocus.Frame): "
         "sharpness and blur per region of a (cols, rows) grid or of the ROIs [(x, y, w, h), ...]; "
-        "with a Lens, the depths of the blur too. The GIL is released while it measures.");
+        "with a Lens, the depths of the blur too. The blur is shared over `threads` threads (0: "
+        "one per core). The GIL is released while it measures.");
 
     m.def(
         "analyze_source",
         [](const std::string& source, std::pair<int, int> grid, const std::string& metric,
            bool blur, const std::optional<std::vector<std::array<int, 4>>>& roi,
            const std::optional<Lens>& lens, const std::string& transfer, uint64_t frames,
-           unsigned jobs, const pb::object& progress) {
-            const Request q = request(grid, metric, blur, roi, lens, transfer);
+           unsigned jobs, unsigned threads, const pb::object& progress) {
+            const Request q = request(grid, metric, blur, roi, lens, transfer, threads);
             Progress report(progress);
             std::vector<FrameAnalysis> results;
             StreamOptions stream;
@@ -457,10 +459,11 @@ void registerAnalysis(pb::module_& m) {
         pb::arg("source"), pb::arg("grid") = std::pair<int, int>{16, 9}, pb::arg("metric") = "teng",
         pb::arg("blur") = true, pb::arg("roi") = pb::none(), pb::arg("lens") = pb::none(),
         pb::arg("transfer") = "linear", pb::arg("frames") = 0, pb::arg("jobs") = 0,
-        pb::arg("progress") = pb::none(),
+        pb::arg("threads") = 0, pb::arg("progress") = pb::none(),
         "Measures every frame of a source (up to `frames`, 0: all) as `infocus analyze --jobs` "
-        "does (jobs 0: the machine's cores), and returns a list of Analysis; progress(done, "
-        "total) is called as frames are done (total 0 when unknown).");
+        "does (jobs 0: the machine's cores; each job's blur on `threads` threads, 0: its share "
+        "of the cores), and returns a list of Analysis; progress(done, total) is called as "
+        "frames are done (total 0 when unknown).");
 }
 
 }  // namespace infocus::py

@@ -128,3 +128,15 @@ def test_stack_matches_the_cli(cli, data_dir):
     assert got["composite"].shape == (got["height"], got["width"])
     assert got["focus_map_array"].shape == (expected["focus_map"]["rows"],
                                             expected["focus_map"]["cols"])
+
+
+def test_the_blur_threads_do_not_change_the_results(data_dir):
+    # One thread (a Dask worker's share) and one per core measure the same edges.
+    with infocus.open(os.path.join(data_dir, "focus-stack/pcb")) as src:
+        frame = np.array(next(src).luma)
+    one = infocus.analyze(frame, grid=(8, 6), threads=1)
+    every = infocus.analyze(frame, grid=(8, 6), threads=0)
+    assert np.isfinite(one.blur_width_px).sum() >= 10  # the frame has edges to share out
+    assert one.to_json() == every.to_json()
+    with pytest.raises(TypeError):
+        infocus.analyze(frame, threads=-1)

@@ -42,6 +42,16 @@ def _library():
     return infocus
 
 
+def _threads():
+    """Threads for one frame's blur. Each worker thread is already one unit of the cluster's
+    parallelism, and Dask's nanny says so to the libraries its tasks call with OMP_NUM_THREADS
+    (1); a worker started without a nanny leaves it unset, and the frame takes every core."""
+    try:
+        return max(0, int(os.environ.get("OMP_NUM_THREADS", "0")))
+    except ValueError:
+        return 0
+
+
 def _spec(path, start):
     return path if start == 0 else f"{path},start={start}"
 
@@ -87,7 +97,8 @@ def analyze_range(path, start, count, grid, files=None, root=None):
                                if isinstance(v, (str, int, float, type(None)))}
                 for frame in src:
                     # The record analyze writes, read back exactly (shortest round-trip text).
-                    rec = json.loads(infocus.analyze(frame, grid=grid).to_json())
+                    rec = json.loads(
+                        infocus.analyze(frame, grid=grid, threads=_threads()).to_json())
                     # A source opened at start=N counts its frames from 0 again.
                     rec["frame"] += start
                     out["records"].append(rec)
