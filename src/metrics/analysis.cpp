@@ -232,8 +232,7 @@ Result<FrameAnalysis> Analyzer::analyze(const Frame& frame, uint64_t index, Luma
         // with its own tracker when the stream is tracked.
         const size_t n = rects.size();
         const unsigned cores = o.threads > 0 ? o.threads : std::thread::hardware_concurrency();
-        const unsigned threads =
-            std::max(1u, std::min<unsigned>(cores, static_cast<unsigned>(n)));
+        const unsigned threads = std::max(1u, std::min<unsigned>(cores, static_cast<unsigned>(n)));
         BlurOptions blurOptions;
         blurOptions.transfer = o.transfer;
         if (o.blurSearchesPerFrame > 0 && impl_->trackers.size() != threads) {
