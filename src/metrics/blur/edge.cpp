@@ -43,10 +43,11 @@ EdgeMeasurement makeMeasurement(const Patch& patch, const EsfFit& f, const BinLi
     const double bend = relativeBend(straight, sd);
     const double over = f.overshoot / 0.25;
     m.quality = (1.0 - std::exp(-cnr / 5.0)) * std::exp(-bend * bend - over * over);
-    if (o.sfr) {
+    if (o.sfr && m.quality > kUsableQuality) {
         // The line spread for the SFR from the same bins, in light, about the fit's centroid
         // and between its plateaus; the window is sized by the wide window's spread, so flare
-        // lowers the SFR. Its transform is taken only if the edge sets its region's blur.
+        // lowers the SFR. Its transform is taken only if the edge sets its region's blur, which
+        // an edge of too low a quality never does (blurFromEdges).
         const EsfProfile p{{bins.pos.data(), bins.size},
                            {bins.value.data(), bins.size},
                            {bins.withinVar.data(), bins.size},

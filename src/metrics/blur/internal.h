@@ -27,6 +27,10 @@ using detail::Kernels;
 // Variance of a 1 px box (the pixel's own area), px². Its projection on any edge normal is a
 // trapezoid of variance (cos²θ + sin²θ)/12 = 1/12, whatever the edge angle.
 constexpr double kPixelVariance = 1.0 / 12.0;
+
+// Quality above which an edge counts towards a region's blur at all (blurFromEdges).
+constexpr double kUsableQuality = 0.05;
+
 // 10–90 % rise of a Gaussian edge per unit σ (docs/design.md).
 constexpr double kGaussianRisePerSigma = 2.5631;
 

@@ -22,9 +22,6 @@ constexpr double kTrustedQuality = 0.3, kTrustedCnr = 5.0;
 // another edge, and its σ says little about the blur.
 constexpr double kTrustedRiseOffset = 0.22;
 
-// Quality above which an edge counts towards a region's blur at all.
-constexpr double kUsableQuality = 0.05;
-
 // Ranges of the options (BlurOptions, sanitized): the shortest segment measured (its half-length,
 // px), the widest ESF half-width (px; a blur of some 800 px), the most edges a region and the
 // coarsest candidate grid.
