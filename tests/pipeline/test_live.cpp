@@ -207,6 +207,33 @@ TEST_CASE("the live state counts frames and reports the optics it knows") {
     CHECK(s.preview->height() == 360);
     REQUIRE(s.peakingMask);
     CHECK(s.peakingMask->width() == 640);
+    {
+        // Percentile peaking by its definition: the edge strength (|dx| + |dy|, central
+        // differences) of each inner preview pixel; among those above 8, the strength at the
+        // percentile is the threshold, and exactly the pixels at or above it are marked.
+        const auto& pv = *s.preview;
+        std::vector<int> strong;
+        std::vector<int> strength(static_cast<size_t>(pv.width()) * pv.height(), 0);
+        for (int y = 1; y + 1 < pv.height(); ++y)
+            for (int x = 1; x + 1 < pv.width(); ++x) {
+                const int v = std::abs(pv.row(y)[x + 1] - pv.row(y)[x - 1]) +
+                              std::abs(pv.row(y + 1)[x] - pv.row(y - 1)[x]);
+                strength[static_cast<size_t>(y) * pv.width() + x] = v;
+                if (v > 8) strong.push_back(v);
+            }
+        REQUIRE(strong.size() > 1000);
+        std::sort(strong.begin(), strong.end());
+        const int threshold = strong[static_cast<size_t>(o.peakingPercentile * strong.size())];
+        int wrong = 0, marked = 0;
+        for (int y = 0; y < pv.height(); ++y)
+            for (int x = 0; x < pv.width(); ++x) {
+                const bool on = s.peakingMask->row(y)[x] != 0;
+                marked += on;
+                wrong += on != (strength[static_cast<size_t>(y) * pv.width() + x] >= threshold);
+            }
+        CHECK(wrong == 0);
+        CHECK(marked > 0);
+    }
     REQUIRE(s.magnifier);
     CHECK(s.magnifier->zoom == 2);
     CHECK(s.magnifier->crop.width() == 128);

@@ -2,6 +2,7 @@
 #include "src/pipeline/live/state.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -120,6 +121,11 @@ void fillPictures(const Luma8& luma, const LiveOptions& o, PeakingMode mode, Liv
     // rows are summed first, a loop the compiler vectorises, then each f columns of the sums.
     const int area = f * f;
     std::vector<int> columns(static_cast<size_t>(pw) * f);
+    // The rounded mean of every possible sum, looked up: a division per pixel cost more than
+    // the rest of the preview.
+    std::vector<uint8_t> mean(static_cast<size_t>(255 * area + 1));
+    for (size_t sum = 0; sum < mean.size(); ++sum)
+        mean[sum] = static_cast<uint8_t>((static_cast<int>(sum) + area / 2) / area);
     // At full size (the window face) a copy: the average's division per pixel cost 15 ms a
     // 1080p frame.
     for (int y = 0; f == 1 && y < ph; ++y)
@@ -136,54 +142,69 @@ void fillPictures(const Luma8& luma, const LiveOptions& o, PeakingMode mode, Liv
             int sum = 0;
             for (int dx = 0; dx < f; ++dx)
                 sum += columns[static_cast<size_t>(x) * f + dx];
-            out[x] = static_cast<uint8_t>((sum + area / 2) / area);
+            out[x] = mean[static_cast<size_t>(sum)];
         }
     }
     s.preview = preview;
     if (mode == PeakingMode::Off) return;
 
-    // Edge strength on the preview: the sum of absolute central differences.
+    // Edge strength on the preview: the sum of absolute central differences (0–510), and how
+    // many pixels have each strength above 8, from which the threshold is read.
+    // Four counts, one for each x mod 4, so that a run of equal strengths (flat parts: 0) does
+    // not wait on one counter.
     std::vector<uint16_t> g(static_cast<size_t>(pw) * ph, 0);
-    std::vector<uint16_t> strong;
+    std::array<std::array<uint32_t, 511>, 4> parts{};
     for (int y = 1; y + 1 < ph; ++y) {
         const uint8_t* up = preview->row(y - 1);
         const uint8_t* mid = preview->row(y);
         const uint8_t* dn = preview->row(y + 1);
+        uint16_t* gy = g.data() + static_cast<size_t>(y) * pw;
         for (int x = 1; x + 1 < pw; ++x) {
             const int v = std::abs(mid[x + 1] - mid[x - 1]) + std::abs(dn[x] - up[x]);
-            g[static_cast<size_t>(y) * pw + x] = static_cast<uint16_t>(v);
-            if (v > 8) strong.push_back(static_cast<uint16_t>(v));
+            gy[x] = static_cast<uint16_t>(v);
+            ++parts[static_cast<size_t>(x & 3)][static_cast<size_t>(v)];
         }
     }
+    std::array<uint32_t, 511> counts{};
+    for (size_t v = 0; v < counts.size(); ++v)
+        counts[v] = parts[0][v] + parts[1][v] + parts[2][v] + parts[3][v];
+    size_t strong = 0;
+    for (size_t v = 9; v < counts.size(); ++v)
+        strong += counts[v];
     auto mask = std::make_shared<Image<uint8_t>>(pw, ph);
-    if (!strong.empty()) {
+    if (strong > 0) {
         // Percentile: the strongest edges of the frame, as Magic Lantern's peaking marks them.
         // CoC: the edges (above the median edge strength) of regions whose blur is within the
-        // circle of confusion.
+        // circle of confusion. The threshold is the k-th weakest strength above 8.
         const double q = mode == PeakingMode::Percentile ? o.peakingPercentile : 0.5;
-        const auto k = std::min(strong.size() - 1, static_cast<size_t>(q * strong.size()));
-        std::nth_element(strong.begin(), strong.begin() + static_cast<ptrdiff_t>(k), strong.end());
-        const int threshold = std::max<int>(strong[k], 9);
+        const auto k = std::min(strong - 1, static_cast<size_t>(q * strong));
+        size_t below = 0, v = 9;
+        while (below + counts[v] <= k)
+            below += counts[v++];
+        const int threshold = std::max<int>(static_cast<int>(v), 9);
         std::vector<uint8_t> sharpRegion;
         if (mode == PeakingMode::Coc)
             for (const LiveRegion& r : s.regions)
                 sharpRegion.push_back(r.blurPx && r.confidence >= kConfident &&
                                       *r.blurPx <= s.cocPx);
-        for (int y = 0; y < ph; ++y) {
+        for (int y = 0; mode != PeakingMode::Coc && y < ph; ++y) {
+            uint8_t* out = mask->row(y);
+            const uint16_t* gy = g.data() + static_cast<size_t>(y) * pw;
+            for (int x = 0; x < pw; ++x)
+                out[x] = gy[x] >= threshold ? 255 : 0;
+        }
+        for (int y = 0; mode == PeakingMode::Coc && y < ph; ++y) {
             uint8_t* out = mask->row(y);
             for (int x = 0; x < pw; ++x) {
                 if (g[static_cast<size_t>(y) * pw + x] < threshold) continue;
-                if (mode == PeakingMode::Coc) {
-                    const int fx = x * f + f / 2, fy = y * f + f / 2;
-                    bool inSharp = false;
-                    for (size_t i = 0; i < s.regions.size() && !inSharp; ++i) {
-                        const Rect& r = s.regions[i].rect;
-                        inSharp = sharpRegion[i] && fx >= r.x && fx < r.x + r.w && fy >= r.y &&
-                                  fy < r.y + r.h;
-                    }
-                    if (!inSharp) continue;
+                const int fx = x * f + f / 2, fy = y * f + f / 2;
+                bool inSharp = false;
+                for (size_t i = 0; i < s.regions.size() && !inSharp; ++i) {
+                    const Rect& r = s.regions[i].rect;
+                    inSharp = sharpRegion[i] && fx >= r.x && fx < r.x + r.w && fy >= r.y &&
+                              fy < r.y + r.h;
                 }
-                out[x] = 255;
+                if (inSharp) out[x] = 255;
             }
         }
     }
