@@ -10,7 +10,7 @@ set -euo pipefail
 
 # Building and running: the compiler and build tools, and the libraries of every part and face.
 pkgs=(meson ninja-build pkg-config g++
-	libopencv-dev libcamera-dev catch2 libturbojpeg0-dev libjpeg-dev libpng-dev
+	libopencv-dev libcamera-dev catch2 libturbojpeg0-dev libjpeg-dev libpng-dev zlib1g-dev
 	libcli11-dev nlohmann-json3-dev libncurses-dev libcpp-httplib-dev
 	libsdl2-dev libimgui-dev)
 test_pkgs=(clang-format tmux
