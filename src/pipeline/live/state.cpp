@@ -21,9 +21,9 @@ constexpr double kConfident = kLowBlurConfidence;
 // define any plane, so a handful more keep one stray edge from tilting it.
 constexpr int kMinRegionsForPlane = 6;
 // LMedS triples the live in-focus line is fitted with (the depth map's 2000 take 6 ms a frame
-// on 1080p's ~140 regions): with half the regions outliers, 400 triples all miss a clean one
-// with odds of 0.875^400 ≈ 1e-23.
-constexpr int kLivePlaneHypotheses = 400;
+// on 1080p's ~140 regions): with half the regions outliers, 150 triples all miss a clean one
+// with odds of 0.875^150 ≈ 2e-9, once in 100 days of frames at 60 fps.
+constexpr int kLivePlaneHypotheses = 150;
 // Wavelength for the diffraction floor: green, where a sensor's luma is most sensitive.
 constexpr double kWavelengthM = 550e-9;
 
