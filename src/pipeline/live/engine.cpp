@@ -4,6 +4,10 @@
 // frames. Autofocus runs beside them and sees frames and the lens only through a FrameTap.
 #include <time.h>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <condition_variable>
@@ -360,6 +364,19 @@ private:
         return true;
     }
 
+    // Hands the heap's free pages back to the system once a minute. Frames, previews and JPEG
+    // buffers of varying sizes leave free pages inside glibc's heaps that it keeps resident; over
+    // an hour they made RSS grow in steps by 2.8 % with the bytes in use flat.
+    void trimHeapEachMinute(Clock::time_point now) {
+#ifdef __GLIBC__
+        if (now - lastTrim_ < std::chrono::minutes(1)) return;
+        lastTrim_ = now;
+        malloc_trim(0);
+#else
+        (void)now;
+#endif
+    }
+
     void analysisLoop() {
         uint64_t index = 0;
         double publishS = 0.0;  // the previous state's handing over
@@ -393,6 +410,7 @@ private:
             const auto published = Clock::now();
             publish(std::move(s), c.serial);
             publishS = std::chrono::duration<double>(Clock::now() - published).count();
+            trimHeapEachMinute(now);
         }
         std::lock_guard lock(mutex_);
         analysisEnded_ = true;
@@ -599,6 +617,7 @@ private:
     std::string afResult_;                 // its outcome, for the status once it shows
     bool resetPeak_ = false;
     PeakingMode peaking_;
+    Clock::time_point lastTrim_ = Clock::now();  // the analysis thread's last malloc_trim
     std::optional<Rect> scoreRoi_;
     std::optional<std::array<int, 3>> magnifier_;
     std::optional<std::array<int, 2>> pendingGrid_;
