@@ -82,6 +82,14 @@ bool buildLineSpread(const EsfProfile& esf, LineSpread& out) {
     return dc > 0.0;
 }
 
+// The SFR from the transform (@p re, @p im) of @p l at πfΔ = @p a (sin a = @p sa): its
+// magnitude over the sum, divided by the difference's sinc and by the bins' own Gaussian,
+// whose inverse is @p gauss.
+double corrected(const LineSpread& l, double re, double im, double a, double sa, double gauss) {
+    const double sinc = std::abs(a) < 1e-9 ? 1.0 : sa / a;
+    return std::sqrt(re * re + im * im) / l.dc / sinc * gauss;
+}
+
 // The SFR of @p l at @p f: |Σ d_k e^(−2πi f kΔ)| / Σ d_k, divided by what the finite difference
 // (sinc(fΔ)) and the bins' own extent (a Gaussian of their within-bin variance) take.
 double response(const LineSpread& l, double f) {
@@ -111,9 +119,7 @@ double response(const LineSpread& l, double f) {
         re[j] += d[k] * zr[j], im[j] += d[k] * zi[j];
     }
     const double sr = (re[0] + re[1]) + (re[2] + re[3]), si = (im[0] + im[1]) + (im[2] + im[3]);
-    const double m = std::sqrt(sr * sr + si * si) / l.dc;
-    const double sinc = std::abs(a) < 1e-9 ? 1.0 : sa / a;
-    return m / sinc * std::exp(2.0 * kPi * kPi * f * f * l.withinVar);
+    return corrected(l, sr, si, a, sa, std::exp(2.0 * kPi * kPi * f * f * l.withinVar));
 }
 
 // The responses at f, 2f, 3f and 4f in one pass: four rotators, one per frequency, whose steps
@@ -139,12 +145,10 @@ std::array<double, 4> responses4(const LineSpread& l, double f) {
     const double e1 = std::exp(2.0 * kPi * kPi * f * f * l.withinVar);
     double e = 1.0;
     for (int k = 0; k < 4; ++k) {
-        const double m = std::sqrt(re[k] * re[k] + im[k] * im[k]) / l.dc;
-        const double ak = (k + 1) * a;
-        const double sinc = std::abs(ak) < 1e-9 ? 1.0 : std::sin(ak) / ak;
         for (int i = 0; i < 2 * k + 1; ++i)
             e *= e1;  // e1^((k + 1)²): the exponent grows with the frequency squared
-        out[static_cast<size_t>(k)] = m / sinc * e;
+        const double ak = (k + 1) * a;
+        out[static_cast<size_t>(k)] = corrected(l, re[k], im[k], ak, std::sin(ak), e);
     }
     return out;
 }
