@@ -42,13 +42,12 @@ RegionStatus classifyRegion(const Luma8& img, const Rect& rect, double noise, st
     // (the slowest loop of the analysis when it read every pixel).
     const int step = static_cast<int64_t>(r.w) * r.h >= kStatusSampleFrom ? 2 : 1;
     std::array<uint32_t, 256> hist{};
-    double n = 0;
     for (int y = r.y; y < r.y + r.h; y += step) {
         const uint8_t* row = img.row(y);
         for (int x = r.x; x < r.x + r.w; x += step)
             ++hist[row[x]];
-        n += (r.w + step - 1) / step;
     }
+    const double n = static_cast<double>((r.w + step - 1) / step) * ((r.h + step - 1) / step);
     double top = 0;
     for (int v = kNoiseHighEnd; v < 256; ++v)
         top += hist[v];
