@@ -92,13 +92,14 @@ def analyze_range(path, start, count, grid, files=None, root=None):
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", RuntimeWarning)
+            threads = _threads()
             with infocus.open(_spec(path, start)) as src:
                 out["info"] = {k: v for k, v in src.info.items()
                                if isinstance(v, (str, int, float, type(None)))}
                 for frame in src:
                     # The record analyze writes, read back exactly (shortest round-trip text).
                     rec = json.loads(
-                        infocus.analyze(frame, grid=grid, threads=_threads()).to_json())
+                        infocus.analyze(frame, grid=grid, threads=threads).to_json())
                     # A source opened at start=N counts its frames from 0 again.
                     rec["frame"] += start
                     out["records"].append(rec)
