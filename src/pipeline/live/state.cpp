@@ -123,7 +123,7 @@ void fillPictures(const Luma8& luma, const LiveOptions& o, PeakingMode mode, Liv
     std::vector<int> columns(static_cast<size_t>(pw) * f);
     // The rounded mean of every possible sum, looked up: a division per pixel cost more than
     // the rest of the preview.
-    std::vector<uint8_t> mean(static_cast<size_t>(255 * area + 1));
+    std::vector<uint8_t> mean(f > 1 ? static_cast<size_t>(255 * area + 1) : 0);
     for (size_t sum = 0; sum < mean.size(); ++sum)
         mean[sum] = static_cast<uint8_t>((static_cast<int>(sum) + area / 2) / area);
     // At full size (the window face) a copy: the average's division per pixel cost 15 ms a
