@@ -768,10 +768,13 @@ private:
                 }
                 c->last = snap->state->frame;
                 c->sent = c->wrote = now;
-                const std::string event =
-                    "id: " + std::to_string(snap->state->frame) +
-                    "\ndata: " + (snap->json ? *snap->json : liveStateJson(*snap->state)) + "\n\n";
-                return sink.write(event.data(), event.size());
+                // The shared JSON goes out as it is: a copy per client per event, of varying
+                // size, fragmented the request threads' heaps and grew RSS over hours.
+                const std::string head = "id: " + std::to_string(snap->state->frame) + "\ndata: ";
+                const std::string own = snap->json ? std::string() : liveStateJson(*snap->state);
+                const std::string& json = snap->json ? *snap->json : own;
+                return sink.write(head.data(), head.size()) &&
+                       sink.write(json.data(), json.size()) && sink.write("\n\n", 2);
             },
             [this](bool) { hub_.eventClients.fetch_sub(1); });
     }
