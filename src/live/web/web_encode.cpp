@@ -7,6 +7,7 @@
 #include <array>
 #include <cstring>
 #include <memory>
+#include <vector>
 
 namespace infocus::web {
 
@@ -34,17 +35,22 @@ Result<std::string> encodeGreyJpeg(const Image<uint8_t>& image, int quality) {
     // One compressor per thread: the encoder thread and the request threads encode at once.
     thread_local std::unique_ptr<void, int (*)(tjhandle)> tj(tjInitCompress(), tjDestroy);
     if (!tj) return makeError(ErrorKind::Io, "libjpeg-turbo could not start a JPEG encoder");
-    unsigned char* out = nullptr;
-    unsigned long bytes = 0;
+    // The worst case's buffer, kept per thread: left to grow inside the encoder, it was
+    // reallocated on every frame in steps that fragment the heap of a long-running view.
+    thread_local std::vector<unsigned char> buffer;
+    const unsigned long worst = tjBufSize(image.width(), image.height(), TJSAMP_GRAY);
+    if (worst == static_cast<unsigned long>(-1))
+        return makeError(ErrorKind::Usage,
+                         "JPEG encoding of the preview failed: " + std::to_string(image.width()) +
+                             "x" + std::to_string(image.height()) + " is not an image size");
+    buffer.resize(worst);
+    unsigned char* out = buffer.data();
+    unsigned long bytes = buffer.size();
     if (tjCompress2(tj.get(), image.row(0), image.width(), image.width(), image.height(), TJPF_GRAY,
-                    &out, &bytes, TJSAMP_GRAY, quality, TJFLAG_FASTDCT) != 0) {
-        tjFree(out);
+                    &out, &bytes, TJSAMP_GRAY, quality, TJFLAG_FASTDCT | TJFLAG_NOREALLOC) != 0)
         return makeError(ErrorKind::Io, std::string("JPEG encoding of the preview failed: ") +
                                             tjGetErrorStr2(tj.get()));
-    }
-    std::string jpeg(reinterpret_cast<const char*>(out), bytes);
-    tjFree(out);
-    return jpeg;
+    return std::string(reinterpret_cast<const char*>(out), bytes);
 }
 
 Result<std::string> encodeMaskPng(const Image<uint8_t>& mask) {
