@@ -4,10 +4,10 @@
 # process's RSS, open descriptors and threads, and the pipeline's frame, dropped and skipped
 # counts (/state), into soak.csv; then it plots them (soak.png, gnuplot) and checks, from the
 # first sample after the first minute on: RSS within +-2 % of that sample, descriptors and threads
-# equal to it, no frame dropped, every client still receiving. Descriptors and threads are read
-# 10 times over 0.2 s per sample and the fewest kept (the max beside it): the analysis starts a
-# worker thread per frame and reads the CPU count from /sys, so one more of each comes and goes
-# within a frame, where a leaked one stays.
+# equal to it, no frame dropped, every client still receiving. RSS, descriptors and threads are
+# read 10 times over 0.2 s per sample and the least kept (the max beside it): the analysis starts
+# a worker thread per frame and reads the CPU count from /sys, so one more thread, descriptor and
+# frame buffer comes and goes within a frame, where a leaked one stays.
 #   scripts/soak.sh [MINUTES]
 # Environment: INFOCUS (default build/src/cli/infocus), SOAK_OUT (default build/soak-MINUTESmin),
 # SOAK_INTERVAL (seconds between samples, default 10), SOAK_SOURCE (default
@@ -87,7 +87,7 @@ for c in range(4):
 
 with open(path, 'w') as out:
     out.write('t_s,rss_kib,fds,threads,frame,dropped,skipped,fps,client_min_parts,'
-              'client_min_events,fds_max,threads_max\n')
+              'client_min_events,fds_max,threads_max,rss_max_kib\n')
     t0, i, was = time.monotonic(), 0, None
     while i * interval <= seconds:
         time.sleep(max(0.0, t0 + i * interval - time.monotonic()))
@@ -97,10 +97,11 @@ with open(path, 'w') as out:
             status = open('/proc/%d/status' % pid).read().split('\n')
             rss = int(next(l.split()[1] for l in status if l.startswith('VmRSS:')))
             threads = int(next(l.split()[1] for l in status if l.startswith('Threads:')))
-            reads.append((len(os.listdir('/proc/%d/fd' % pid)), threads))
+            reads.append((len(os.listdir('/proc/%d/fd' % pid)), threads, rss))
             time.sleep(0.02)
         fds, threads = min(r[0] for r in reads), min(r[1] for r in reads)
         fds_max, threads_max = max(r[0] for r in reads), max(r[1] for r in reads)
+        rss, rss_max = min(r[2] for r in reads), max(r[2] for r in reads)
         try:
             s = json.loads(urllib.request.urlopen(base + '/state', timeout=5).read())
         except (OSError, ValueError):
@@ -111,9 +112,9 @@ with open(path, 'w') as out:
             d = [a - b for a, b in zip(now, was)]
             parts, events = min(d[0::2]), min(d[1::2])
         was = now
-        out.write('%d,%d,%d,%d,%s,%s,%s,%.1f,%s,%s,%d,%d\n' % (
+        out.write('%d,%d,%d,%d,%s,%s,%s,%.1f,%s,%s,%d,%d,%d\n' % (
             round(i * interval), rss, fds, threads, s.get('frame', ''), s.get('dropped', ''),
-            s.get('skipped', ''), s.get('fps', 0.0), parts, events, fds_max, threads_max))
+            s.get('skipped', ''), s.get('fps', 0.0), parts, events, fds_max, threads_max, rss_max))
         out.flush()
         print('%5d s  RSS %.1f MiB  fds %d (max %d)  threads %d (max %d)  dropped %s  %.1f fps  slowest client: '
               '%s parts, %s events' % (i * interval, rss / 1024, fds, fds_max, threads, threads_max,
