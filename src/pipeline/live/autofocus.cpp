@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <limits>
 #include <vector>
 
 #include "infocus/blur.h"
@@ -203,9 +204,23 @@ public:
         }
         const Rect area = intersect(subjectFor(*luma), {0, 0, luma->width, luma->height});
         r = readSubject(*luma, area);
+        lensTagged_ = frame->lens.has_value();
         position = frame->lens ? frame->lens->value : commanded_.value_or(position);
         return !stop_;
     }
+
+    // Asks for a move and returns at once: the frames that follow say where the lens was.
+    bool command(double to) {
+        uint64_t before = 0;
+        if (Status st = tap_.moveLens(to, before); !st) {
+            ended_ = st.error().message;
+            return false;
+        }
+        commanded_ = to;
+        return true;
+    }
+    // Whether the last frame read carried the lens position at its exposure.
+    bool lensTagged() const { return lensTagged_; }
 
     // Moves the lens and lets the frames in flight and the move itself pass.
     bool move(double to, double from) {
@@ -255,6 +270,7 @@ private:
     uint64_t seen_ = 0;
     std::optional<uint64_t> start_;
     std::optional<double> commanded_;
+    bool lensTagged_ = false;
     LiveAutofocus status_;
     std::string ended_;
 };
@@ -454,6 +470,77 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
     return focused(pos);
 }
 
+namespace {
+
+// Sightings of a moving subject that the fit weighs: about a quarter second at 30 fps.
+constexpr size_t kSightings = 8;
+// The fastest subject followed, in shares of the lens's range a second.
+constexpr double kFastestShare = 0.3;
+
+// One reading of the subject while following it: its frame, the lens at its exposure, the
+// defocus its blur shows (control units) and how far that may miss.
+struct Sighting {
+    int frame = 0;
+    double lens = 0.0, defocus = 0.0, miss = 1.0;
+};
+
+// Where the subject is in focus at a frame, and how that moves per frame.
+struct Track {
+    int frame = 0;
+    double at = 0.0, speed = 0.0;
+    double atFrame(int f) const { return at + speed * (f - frame); }
+};
+
+// The subject's track that best explains the sightings (|subject − lens| = defocus at each),
+// nearer @p prior on a tie: a still lens cannot tell in front from behind, a moving one can.
+Track fitSubject(const std::deque<Sighting>& seen, const Track& prior, double priorMiss,
+                 double fastest) {
+    const Sighting& now = seen.back();
+    Track best{now.frame, now.lens, 0.0};
+    double bestCost = std::numeric_limits<double>::infinity();
+    const double expected = prior.atFrame(now.frame);
+    constexpr int kSpeeds = 100;
+    for (const double side : {-1.0, 1.0}) {
+        for (int j = -2; j <= 2; ++j) {
+            const double at = now.lens + side * now.defocus + 0.5 * j * now.miss;
+            const double p = (at - expected) / priorMiss;
+            for (int i = -kSpeeds; i <= kSpeeds; ++i) {
+                const double v = fastest * i / kSpeeds;
+                double cost = p * p;
+                for (const Sighting& k : seen) {
+                    const double e =
+                        (std::abs(at + v * (k.frame - now.frame) - k.lens) - k.defocus) / k.miss;
+                    cost += e * e;
+                }
+                if (cost < bestCost) {
+                    bestCost = cost;
+                    best = {now.frame, at, v};
+                }
+            }
+        }
+    }
+    return best;
+}
+
+// How far a speed fitted to @p seen may miss from the readings' noise alone (a line's slope
+// through points of that scatter), per frame.
+double speedMiss(const std::deque<Sighting>& seen) {
+    if (seen.size() < 3) return std::numeric_limits<double>::infinity();
+    double mean = 0.0, miss = 0.0;
+    for (const Sighting& k : seen) {
+        mean += k.frame;
+        miss += k.miss;
+    }
+    mean /= static_cast<double>(seen.size());
+    miss /= static_cast<double>(seen.size());
+    double spread = 0.0;
+    for (const Sighting& k : seen)
+        spread += (k.frame - mean) * (k.frame - mean);
+    return miss / std::sqrt(spread);
+}
+
+}  // namespace
+
 void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport& report,
                             const std::atomic<bool>& stop) {
     // First the subject is brought into focus once; the faces see it as continuous focus moving.
@@ -470,68 +557,77 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
     st.mode = LiveAutofocusMode::Continuous;
     double pos = range.defaultValue;
     if (auto p = tap.lensPosition()) pos = p->value;
-    // Estimates of where the subject is in focus, with the frame they came from, to follow a
-    // subject that moves and to tell its side of focus from the blur alone.
-    std::deque<std::pair<int, double>> track;
-    int over = 0, lost = 0, lastMove = -1000;
     const SourceInfo info = tap.info();
     const int framesPerSecond = info.fps > 0 ? static_cast<int>(std::lround(info.fps)) : 30;
+    const double fastest = kFastestShare * (range.max - range.min) / framesPerSecond;
+    // The subject's recent sightings and its track, from the lens just brought to focus.
+    std::deque<Sighting> seen;
+    Track track{0, pos, 0.0};
+    double commanded = pos;
+    int lost = 0, lastMove = -1000;
     Reading r;
     while (!stop) {
         if (!s.read(r, pos)) return;
         const int frame = st.frames;
         if (!r.discPx) {
             // Lost: a subject gone far out of focus is found again once it stays lost a second.
-            over = 0;
             s.state(LiveAutofocusState::Holding,
                     r.tooWide ? "the subject is far out of focus"
                               : "too few confident edges in the subject to follow");
             if (r.tooWide && ++lost > 30) {
                 lost = 0;
                 (void)runAutofocusOnce(tap, setup, acquiring, stop);
-                track.clear();
                 if (auto p = tap.lensPosition()) pos = p->value;
+                seen.clear();
+                track = {frame, pos, 0.0};
+                commanded = pos;
             }
             continue;
         }
         lost = 0;
-        const double d = model.known() ? model.defocus(pos, *r.discPx) : 0.0;
-        if (!model.known() || d <= 2 * model.tolerance(pos)) {
-            over = 0;
-            if (model.known()) track.emplace_back(frame, pos);
-            if (st.state != LiveAutofocusState::Holding || !st.reason.empty())
-                s.state(LiveAutofocusState::Holding,
-                        model.known() ? "" : "no lens data: continuous focus needs the lens");
+        if (!model.known()) {
+            const char* why = "no lens data: continuous focus needs the lens";
+            if (st.state != LiveAutofocusState::Holding || st.reason != why)
+                s.state(LiveAutofocusState::Holding, why);
             continue;
         }
-        if (++over < 2) continue;
-        // The side of focus: the one nearer the subject's recent track, else the lower
-        // dioptres (the farther object).
-        double target = pos - d;
-        if (!track.empty()) {
-            const double last = track.back().second;
-            target = std::abs(pos - d - last) <= std::abs(pos + d - last) ? pos - d : pos + d;
+        const double k = model.pxPerUnit(pos);
+        // The frames in flight after the acquisition showed the subject in focus where they
+        // were exposed: the track starts there.
+        if (seen.empty()) track = {frame, pos, 0.0};
+        // The reading's miss: about a pixel near the floor and 6 % of the width.
+        seen.push_back({frame, pos, *r.discPx / k, (1.0 + 0.06 * *r.discPx) / k});
+        while (seen.size() > kSightings)
+            seen.pop_front();
+        const double tolerance = model.tolerance(pos);
+        track = fitSubject(seen, track, std::max(2 * tolerance, seen.back().miss), fastest);
+        // A subject that moves is led to where it will be when the first frame shows the lens at
+        // rest, and a tolerance beyond, so that it passes through focus while the lens holds. One
+        // that stays put moves the lens at most once a second, so noise in its reading never
+        // hunts.
+        const bool moving = std::abs(track.speed) * framesPerSecond > 2 * tolerance &&
+                            std::abs(track.speed) > speedMiss(seen);
+        double target = track.at;
+        if (moving)
+            target += track.speed * (tap.framesToSettle(commanded, target) + 1) +
+                      std::copysign(tolerance, track.speed);
+        target = model.clamp(target);
+        const double off = std::abs(target - commanded);
+        // Beyond twice a reading's miss the subject has left focus: no reason to wait.
+        const bool far = off > 2 * seen.back().miss;
+        if (off <= (moving ? tolerance : 2 * tolerance) ||
+            (!moving && !far && frame - lastMove < framesPerSecond)) {
+            if (!moving && (st.state != LiveAutofocusState::Holding || !st.reason.empty()))
+                s.state(LiveAutofocusState::Holding);
+            continue;
         }
-        if (!model.inRange(target)) target = 2 * pos - target;
-        track.emplace_back(frame, target);
-        while (track.size() > 8)
-            track.pop_front();
-        // A subject that moves: lead it by the frames a move takes. One that stays put moves
-        // the lens at most once a second, so noise in its reading never hunts.
-        double lead = target, speed = 0.0;
-        if (track.size() >= 3) {
-            const auto& a = track.front();
-            const auto& b = track.back();
-            if (b.first > a.first) speed = (b.second - a.second) / (b.first - a.first);
-        }
-        const bool moving = std::abs(speed) * framesPerSecond > model.tolerance(pos);
-        if (!moving && frame - lastMove < framesPerSecond) continue;
-        if (moving) lead = target + speed * std::max(1, tap.framesToSettle(pos, target));
-        lead = model.clamp(lead);
-        s.state(LiveAutofocusState::Moving, "following the subject");
-        if (!s.move(lead, pos)) return;
+        if (st.state != LiveAutofocusState::Moving)
+            s.state(LiveAutofocusState::Moving, "following the subject");
+        // Frames that say where the lens was let the next reading come at once; others wait
+        // for the move to end.
+        if (!(s.lensTagged() ? s.command(target) : s.move(target, pos))) return;
+        commanded = target;
         lastMove = frame;
-        over = 0;
     }
 }
 
