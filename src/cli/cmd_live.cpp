@@ -3,9 +3,6 @@
 // to the faces the person chose (src/live/faces.h) and picks the exit status.
 #include <signal.h>
 #include <unistd.h>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 
 #include <atomic>
 #include <iostream>
@@ -105,18 +102,7 @@ Status startAutofocus(LiveAutofocusMode mode, LiveControls& controls) {
     return st;
 }
 
-// Keeps frame-sized buffers in the heap for the process's life. With glibc's sliding mmap
-// threshold, frames went to mmap for minutes at a time and back, and RSS between two reads
-// swung by two frames; in the heap they are reused in place, and the live pipeline's trim
-// returns what stays free.
-void keepFramesInHeap() {
-#ifdef __GLIBC__
-    mallopt(M_MMAP_THRESHOLD, 32 << 20);  // the largest glibc accepts on 64-bit
-#endif
-}
-
 int runLive(const LiveArgs& args) {
-    keepFramesInHeap();
     auto options = liveOptions(args);
     if (!options) return reportError(kName, options.error());
     auto af = parseLiveAutofocusMode(args.af);
