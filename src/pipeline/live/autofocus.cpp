@@ -212,12 +212,7 @@ public:
     // Asks for a move and returns at once: the frames that follow say where the lens was.
     bool command(double to) {
         uint64_t before = 0;
-        if (Status st = tap_.moveLens(to, before); !st) {
-            ended_ = st.error().message;
-            return false;
-        }
-        commanded_ = to;
-        return true;
+        return request(to, before);
     }
     // Whether the last frame read carried the lens position at its exposure.
     bool lensTagged() const { return lensTagged_; }
@@ -225,11 +220,7 @@ public:
     // Moves the lens and lets the frames in flight and the move itself pass.
     bool move(double to, double from) {
         uint64_t before = 0;
-        if (Status st = tap_.moveLens(to, before); !st) {
-            ended_ = st.error().message;
-            return false;
-        }
-        commanded_ = to;
+        if (!request(to, before)) return false;
         seen_ = std::max(seen_, before);
         const int wait = std::max(0, tap_.framesToSettle(from, to));
         for (int i = 0; i < wait; ++i) {
@@ -261,6 +252,16 @@ public:
     const FocusRange& range() const { return range_; }
 
 private:
+    // Moves the lens; @p before receives the last frame captured before the move.
+    bool request(double to, uint64_t& before) {
+        if (Status st = tap_.moveLens(to, before); !st) {
+            ended_ = st.error().message;
+            return false;
+        }
+        commanded_ = to;
+        return true;
+    }
+
     FrameTap& tap_;
     const AfSetup& setup_;
     const AfReport& report_;
@@ -560,9 +561,9 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
     const SourceInfo info = tap.info();
     const int framesPerSecond = info.fps > 0 ? static_cast<int>(std::lround(info.fps)) : 30;
     const double fastest = kFastestShare * (range.max - range.min) / framesPerSecond;
-    // The subject's recent sightings and its track, from the lens just brought to focus.
+    // The subject's recent sightings and its track (started with the first sighting).
     std::deque<Sighting> seen;
-    Track track{0, pos, 0.0};
+    Track track;
     double commanded = pos;
     int lost = 0, lastMove = -1000;
     Reading r;
@@ -579,7 +580,6 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
                 (void)runAutofocusOnce(tap, setup, acquiring, stop);
                 if (auto p = tap.lensPosition()) pos = p->value;
                 seen.clear();
-                track = {frame, pos, 0.0};
                 commanded = pos;
             }
             continue;
@@ -591,12 +591,12 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
                 s.state(LiveAutofocusState::Holding, why);
             continue;
         }
-        const double k = model.pxPerUnit(pos);
-        // The frames in flight after the acquisition showed the subject in focus where they
+        // The frames in flight after an acquisition showed the subject in focus where they
         // were exposed: the track starts there.
         if (seen.empty()) track = {frame, pos, 0.0};
         // The reading's miss: about a pixel near the floor and 6 % of the width.
-        seen.push_back({frame, pos, *r.discPx / k, (1.0 + 0.06 * *r.discPx) / k});
+        seen.push_back({frame, pos, model.defocus(pos, *r.discPx),
+                        model.defocus(pos, 1.0 + 0.06 * *r.discPx)});
         while (seen.size() > kSightings)
             seen.pop_front();
         const double tolerance = model.tolerance(pos);
