@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "infocus/frame.h"
 
+#include "buffer_pool.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cstring>
@@ -156,7 +158,7 @@ Result<FrameLayout> frameLayout(PixelFormat format, Size size, size_t stride) {
 Result<Frame> allocateFrame(PixelFormat format, Size size, size_t stride) {
     auto layout = frameLayout(format, size, stride);
     if (!layout) return layout.error();
-    auto buffer = std::make_shared<std::vector<uint8_t>>(layout->totalSize, 0);
+    auto buffer = detail::pooledBuffer(layout->totalSize);
     Frame f;
     f.format = format;
     f.size = size;

@@ -5,7 +5,10 @@
 
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <vector>
+
+#include "buffer_pool.h"
 
 namespace infocus {
 
@@ -48,7 +51,10 @@ Status checkPlanes(const Frame& f) {
 
 template <typename T>
 std::shared_ptr<std::vector<T>> buffer(int w, int h) {
-    return std::make_shared<std::vector<T>>(static_cast<size_t>(w) * h);
+    if constexpr (std::is_same_v<T, uint8_t>)
+        return detail::pooledBuffer(static_cast<size_t>(w) * h);  // a plane a frame: reused
+    else
+        return std::make_shared<std::vector<T>>(static_cast<size_t>(w) * h);
 }
 
 template <typename T>
