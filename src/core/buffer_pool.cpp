@@ -40,19 +40,15 @@ public:
 
 private:
     void give(std::vector<uint8_t>* p) {
-        std::unique_ptr<std::vector<uint8_t>> v(p), evicted;
-        if (v->size() > kMaxBytes) return;  // freed here, outside the lock
+        std::unique_ptr<std::vector<uint8_t>> v(p);
+        if (v->size() > kMaxBytes) return;
+        std::deque<std::unique_ptr<std::vector<uint8_t>>> evicted;  // freed after the lock
         std::lock_guard lock(mutex_);
-        if (free_.size() == kMaxBuffers || held_ + v->size() > kMaxBytes) {
-            held_ -= free_.front()->size();
-            evicted = std::move(free_.front());
-            free_.pop_front();
-        }
         held_ += v->size();
         free_.push_back(std::move(v));
-        // A single eviction may not make room for a large buffer: the rest go too.
-        while (held_ > kMaxBytes && free_.size() > 1) {
+        while (free_.size() > kMaxBuffers || held_ > kMaxBytes) {
             held_ -= free_.front()->size();
+            evicted.push_back(std::move(free_.front()));
             free_.pop_front();
         }
     }

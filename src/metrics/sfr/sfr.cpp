@@ -15,13 +15,19 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// n! for n = 0…14.
-constexpr std::array<double, 15> kFactorial = [] {
-    std::array<double, 15> f{};
+// The Taylor coefficients of sin a / a and cos a in powers of a²: (−1)^k/(2k+1)! and (−1)^k/(2k)!.
+constexpr auto kTaylor = [] {
+    std::array<double, 15> f{};  // n!
     f[0] = 1.0;
     for (size_t n = 1; n < f.size(); ++n)
         f[n] = f[n - 1] * static_cast<double>(n);
-    return f;
+    std::array<std::array<double, 8>, 2> t{};  // [0]: sine's 7 terms, [1]: cosine's 8
+    for (size_t k = 0; k < 8; ++k) {
+        const double sign = k % 2 ? -1.0 : 1.0;
+        if (k < 7) t[0][k] = sign / f[2 * k + 1];
+        t[1][k] = sign / f[2 * k];
+    }
+    return t;
 }();
 
 // Two doubles in one SSE2 register (GCC's and Clang's vector extension): the transforms below
@@ -47,15 +53,13 @@ void sinCos(double a, double& s, double& c) {
         s = std::sin(a), c = std::cos(a);
         return;
     }
-    // Horner from the highest term: 1/(2k+1)! and 1/(2k)! with alternating signs.
+    // Horner from the highest term.
     const double a2 = a * a;
     double ps = 0.0, pc = 0.0;
-    for (int k = 6; k >= 0; --k) {
-        const double odd = 2.0 * k + 1.0;
-        ps = (k % 2 ? -1.0 : 1.0) / kFactorial[static_cast<size_t>(odd)] + a2 * ps;
-    }
+    for (int k = 6; k >= 0; --k)
+        ps = kTaylor[0][static_cast<size_t>(k)] + a2 * ps;
     for (int k = 7; k >= 0; --k)
-        pc = (k % 2 ? -1.0 : 1.0) / kFactorial[static_cast<size_t>(2 * k)] + a2 * pc;
+        pc = kTaylor[1][static_cast<size_t>(k)] + a2 * pc;
     s = a * ps, c = pc;
 }
 
