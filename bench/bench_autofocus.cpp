@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -39,30 +40,45 @@ struct Outcome {
     bool inFocus = false;
 };
 
-// The truth: the median depth of the middle half (autofocus's subject), and whether a lens at @p
-// dpt holds it within a third of the depth of focus (or 0.02 dpt) with its blur inside the circle
-// of confusion.
+// The truth: the subject's depths (the middle half, as autofocus takes it) sampled every 8 px; a
+// lens holds the subject in focus when it lies within a third of the depth of focus (or 0.02 dpt)
+// of their median, or of a surface that fills a third of the subject or more (steps: either
+// step the subject straddles), with the blur of that depth inside the circle of confusion.
 Outcome judge(const SimRenderer& r, double dpt, int frames) {
     const SimConfig& c = r.config();
     std::vector<double> depths;
     const int w = c.size.width, h = c.size.height;
-    for (int y = h / 3; y < 2 * h / 3; y += 8)
-        for (int x = w / 3; x < 2 * w / 3; x += 8)
+    for (int y = h / 4; y < 3 * h / 4; y += 8)
+        for (int x = w / 4; x < 3 * w / 4; x += 8)
             depths.push_back(1.0 / r.depthAtM(x, y));
-    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
-    const double truth = depths[depths.size() / 2];
+    std::sort(depths.begin(), depths.end());
+    std::vector<double> truths{depths[depths.size() / 2]};
+    for (size_t i = 0; i < depths.size();) {
+        size_t j = i;
+        while (j < depths.size() && depths[j] == depths[i])
+            ++j;
+        if (3 * (j - i) >= depths.size()) truths.push_back(depths[i]);
+        i = j;
+    }
     const double pitch = c.lens.pixelPitchM(w);
     const double cocPx = std::hypot(w, h) / 1500.0;
-    const double zs = 1.0 / (1.0 / c.lens.focalLengthM - truth);
-    const double dofThird =
-        (2.0 / 3.0) * cocPx * pitch / (c.lens.focalLengthM / c.lens.fNumber * zs);
     Outcome o;
     o.frames = frames;
-    o.errorDpt = std::abs(dpt - truth);
-    // The subject's blur with the lens there: the disc of its median depth.
-    const double zsLens = 1.0 / (1.0 / c.lens.focalLengthM - dpt);
-    const double blurPx = c.lens.focalLengthM / c.lens.fNumber * zsLens * o.errorDpt / pitch;
-    o.inFocus = o.errorDpt <= std::max(0.02, dofThird) && blurPx <= cocPx;
+    o.errorDpt = std::numeric_limits<double>::infinity();
+    for (const double truth : truths) {
+        const double zs = 1.0 / (1.0 / c.lens.focalLengthM - truth);
+        const double dofThird =
+            (2.0 / 3.0) * cocPx * pitch / (c.lens.focalLengthM / c.lens.fNumber * zs);
+        const double error = std::abs(dpt - truth);
+        // The subject's blur with the lens there: the disc of that depth.
+        const double zsLens = 1.0 / (1.0 / c.lens.focalLengthM - dpt);
+        const double blurPx = c.lens.focalLengthM / c.lens.fNumber * zsLens * error / pitch;
+        const bool in = error <= std::max(0.02, dofThird) && blurPx <= cocPx;
+        if ((in && !o.inFocus) || (in == o.inFocus && error < o.errorDpt)) {
+            o.errorDpt = error;
+            o.inFocus = in;
+        }
+    }
     return o;
 }
 

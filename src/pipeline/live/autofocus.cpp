@@ -38,15 +38,33 @@ constexpr int kMinAreas = 2;
 // The blur a perfectly focused edge still measures (pixel, optics, estimator), px; removed in
 // quadrature before a width is turned into a defocus.
 constexpr double kFloorPx = 1.5;
+// Areas whose widths differ by more than this ratio, in two groups of at least a quarter of
+// them each and further apart than a reading's noise (pixels), read two surfaces.
+constexpr double kSurfaceGap = 2.0;
+constexpr double kReadingNoisePx = 2.5;
+// The share of the circle of confusion a focused subject's blur keeps: one-shot autofocus ends
+// within a third of the depth of focus; following a moving subject aims closer, as the lens lags.
+constexpr double kOnceBlurShare = 2.0 / 3.0;
+constexpr double kFollowBlurShare = 1.0 / 3.0;
 // Probing without lens data: the first step, as a share of the range.
 constexpr double kProbeShare = 0.04;
 
 // The subject's blur on one frame.
 struct Reading {
-    std::optional<double> discPx;  // full-frame pixels, floor removed; empty: no reading
-    bool tooWide = false;          // edges found, but their blur beyond every level's reach
-    int areas = 0;                 // confident areas at the level used
-    double sharpness = 0.0;        // the subject's focus measure at full resolution
+    std::optional<double> discPx;        // full-frame pixels, floor removed; empty: no reading
+    bool tooWide = false;                // edges found, but their blur beyond every level's reach
+    int areas = 0;                       // confident areas at the level used
+    double sharpness = 0.0;              // the subject's focus measure at full resolution
+    double widestPx = kWidestReadingPx;  // the widest disc this frame's size reads
+    // Where the areas read two surfaces: the one nearer focus, whose width discPx is.
+    std::optional<Rect> surface;
+};
+
+// One frame's reading with the lens where that frame showed it.
+struct Sample {
+    double at = 0.0;
+    Reading r;
+    int subject = 0;  // the subject it was read on (Session::narrow)
 };
 
 // The frame reduced by two in each direction (2×2 mean).
@@ -84,6 +102,35 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// The width the subject's areas agree on: their median, or where they split into two groups of
+// widths (two surfaces at different distances), the median of the narrower group, the surface
+// nearer focus, whose areas go to @p group, so that autofocus settles on one surface rather than
+// between them.
+double subjectWidth(std::vector<std::pair<double, Rect>> widths, std::vector<Rect>& group) {
+    std::sort(widths.begin(), widths.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    const size_t n = widths.size(), least = std::max<size_t>(2, (n + 3) / 4);
+    size_t split = 0;
+    double widest = kSurfaceGap;
+    for (size_t i = least; i + least <= n; ++i) {
+        const double lo = widths[i - 1].first, hi = widths[i].first;
+        if (lo > 0 && hi / lo > widest && hi - lo > kReadingNoisePx) {
+            widest = hi / lo;
+            split = i;
+        }
+    }
+    group.clear();
+    if (split) {
+        widths.resize(split);
+        for (const auto& w : widths)
+            group.push_back(w.second);
+    }
+    std::vector<double> v;
+    for (const auto& w : widths)
+        v.push_back(w.first);
+    return median(v);
+}
+
 // The subject's blur: the finest pyramid level whose confident areas agree on a width it can
 // measure.
 Reading readSubject(const Luma8& luma, const Rect& subject) {
@@ -93,6 +140,7 @@ Reading readSubject(const Luma8& luma, const Rect& subject) {
     BlurOptions bo;
     bo.sfr = false;
     bo.maxEdges = 12;
+    out.widestPx = kWidestReadingPx * std::max(1.0, luma.width / 640.0);
     Luma8 level = luma;
     Image<uint8_t> keep;
     bool edges = false;
@@ -104,25 +152,37 @@ Reading readSubject(const Luma8& luma, const Rect& subject) {
         const Rect r = scaled(subject, s);
         const std::vector<Rect> areas = areasOf(r);
         const auto estimates = measureBlurRegions(level, areas, bo);
-        std::vector<double> widths;
+        std::vector<std::pair<double, Rect>> widths;
         int shortest = r.w + r.h;
         for (size_t i = 0; i < areas.size(); ++i) {
             if (!estimates[i].discDiameterPx || estimates[i].confidence < kMinConfidence) continue;
-            widths.push_back(*estimates[i].discDiameterPx);
+            widths.emplace_back(*estimates[i].discDiameterPx, areas[i]);
             shortest = std::min({shortest, areas[i].w, areas[i].h});
         }
         if (static_cast<int>(widths.size()) < std::min(kMinAreas, static_cast<int>(areas.size())))
             continue;
         edges = true;
-        const double w = median(widths);
+        std::vector<Rect> group;
+        const double w = subjectWidth(widths, group);
         if (w > (l < 2 ? kWidestShare : kWidestShare * 2 / 3) * shortest) continue;
         // Near the estimator's floor a width says "near focus" more than how near.
         const double full = std::max(w * s, kFloorPx);
         // Wider discs read short (the estimator's edge profiles run out), so they only say
         // "wide".
-        if (full > kWidestReadingPx * std::max(1.0, luma.width / 640.0)) break;
+        if (full > out.widestPx) break;
         out.discPx = std::sqrt(std::max(0.0, full * full - kFloorPx * kFloorPx));
         out.areas = static_cast<int>(widths.size());
+        if (!group.empty()) {
+            // The bounding box of the narrower group, in the frame's pixels.
+            int x0 = group[0].x, y0 = group[0].y, x1 = x0 + group[0].w, y1 = y0 + group[0].h;
+            for (const Rect& g : group) {
+                x0 = std::min(x0, g.x);
+                y0 = std::min(y0, g.y);
+                x1 = std::max(x1, g.x + g.w);
+                y1 = std::max(y1, g.y + g.h);
+            }
+            out.surface = Rect{x0 * s, y0 * s, (x1 - x0) * s, (y1 - y0) * s};
+        }
         return out;
     }
     out.tooWide = edges || out.sharpness > 0;
@@ -133,7 +193,9 @@ Reading readSubject(const Luma8& luma, const Rect& subject) {
 // control moves in dioptres; else a blur per control unit learnt from probes.
 class BlurModel {
 public:
-    BlurModel(const AfSetup& s, const FocusRange& range) : range_(range) {
+    // @p blurShare: the share of the circle of confusion the blur may keep in focus.
+    BlurModel(const AfSetup& s, const FocusRange& range, double blurShare)
+        : range_(range), blurShare_(blurShare) {
         if (s.lens && s.lens->valid() && s.pixelPitchM && *s.pixelPitchM > 0 &&
             range.unit == "dioptre") {
             lens_ = s.lens;
@@ -157,11 +219,11 @@ public:
         const double k = pxPerUnit(position);
         return k > 0 ? discPx / k : 0.0;
     }
-    // Autofocus is done when the lens is within a third of the depth of focus (or the control's
-    // step): the blur then stays under a third of the circle of confusion.
+    // How near focus the lens must come (or the control's step): where the blur is the share of
+    // the circle of confusion the model was made with.
     double tolerance(double position) const {
         const double k = pxPerUnit(position);
-        double t = k > 0 ? (cocPx_ / 3.0) / k : 0.0;
+        double t = k > 0 ? (blurShare_ * cocPx_) / k : 0.0;
         if (!lens_ && !(t > 0)) t = (range_.max - range_.min) * 0.005;
         return std::max(t, range_.step);
     }
@@ -176,6 +238,7 @@ private:
     std::optional<optics::ThinLens> lens_;
     double pitch_ = 0.0;
     double cocPx_ = 1.0;
+    double blurShare_ = 1.0;
     std::optional<double> learnt_;
 };
 
@@ -206,6 +269,7 @@ public:
         r = readSubject(*luma, area);
         lensTagged_ = frame->lens.has_value();
         position = frame->lens ? frame->lens->value : commanded_.value_or(position);
+        if (lensTagged_) frames_.push_back({position, r, subjectId_});
         return !stop_;
     }
 
@@ -234,13 +298,106 @@ public:
         return true;
     }
 
+    // Shows the subject with the lens at each of @p targets in turn, appending a sample per
+    // target to @p out, until @p enough says so after one. Where frames say where the lens was,
+    // one move is asked for each frame, so the frames in flight of one move show the ones
+    // before it; elsewhere each move waits for the lens to come to rest. Either way a target's
+    // sample is the first frame its move's settle count names, at the position that frame
+    // carries.
+    bool visit(const std::vector<double>& targets, double& pos, std::vector<Sample>& out,
+               const std::function<bool(const Sample&)>& enough = {}) {
+        if (!lensTagged_) {
+            for (const double t : targets) {
+                Sample smp;
+                if (!move(t, pos) || !read(smp.r, pos)) return false;
+                smp.at = pos;
+                smp.subject = subjectId_;
+                out.push_back(smp);
+                frames_.push_back(smp);
+                if (enough && enough(out.back())) return true;
+            }
+            return true;
+        }
+        struct Due {
+            uint64_t frame;
+            double target;
+        };
+        std::deque<Due> due;
+        double from = commanded_.value_or(pos);
+        size_t next = 0;
+        while (next < targets.size() || !due.empty()) {
+            if (next < targets.size()) {
+                uint64_t before = 0;
+                if (!request(targets[next], before)) return false;
+                const uint64_t settle =
+                    static_cast<uint64_t>(std::max(0, tap_.framesToSettle(from, targets[next])));
+                due.push_back({std::max(before, seen_) + settle + 1, targets[next]});
+                from = targets[next++];
+            }
+            Sample smp;
+            if (!read(smp.r, pos)) return false;
+            smp.at = pos;
+            smp.subject = subjectId_;
+            // A frame past several targets' frames (the live view skips frames when autofocus
+            // falls behind) stands for the last of them.
+            bool reached = false;
+            while (!due.empty() && due.front().frame <= seen_) {
+                due.pop_front();
+                reached = true;
+            }
+            if (!reached) continue;
+            out.push_back(smp);
+            if (enough && enough(out.back())) return true;
+        }
+        return true;
+    }
+
+    // Asks for a move now; @p due receives the number of the first frame that shows the lens at
+    // rest there.
+    bool ask(double to, uint64_t& due) {
+        const double from = commanded_.value_or(to);
+        uint64_t before = 0;
+        if (!request(to, before)) return false;
+        due = std::max(before, seen_) +
+              static_cast<uint64_t>(std::max(0, tap_.framesToSettle(from, to))) + 1;
+        return true;
+    }
+    // Reads frames up to the one numbered @p due, whose sample goes to @p out.
+    bool await(uint64_t due, double& pos, std::vector<Sample>& out) {
+        Sample smp;
+        do {
+            if (!read(smp.r, pos)) return false;
+        } while (seen_ < due);
+        smp.at = pos;
+        smp.subject = subjectId_;
+        out.push_back(smp);
+        return true;
+    }
+    // Whether moves may be asked for one a frame (the frames say where the lens was).
+    bool pipelined() const { return lensTagged_; }
+    // Every frame read whose lens position is known: those that carry it, else the samples
+    // taken at rest (recordFirst adds the first frame's).
+    const std::vector<Sample>& frames() const { return frames_; }
+    void recordFirst(const Sample& first) {
+        if (!lensTagged_) frames_.push_back(first);
+    }
+
     void state(LiveAutofocusState s, std::string reason = {}) {
         status_.state = s;
         status_.reason = std::move(reason);
         if (report_) report_(status_);
     }
 
+    // Reads the subject from now on in @p surface only, one of two surfaces the subject's areas
+    // read; samples taken before are of another subject.
+    void narrow(const Rect& surface) {
+        narrowed_ = surface;
+        ++subjectId_;
+    }
+    int subjectId() const { return subjectId_; }
+
     Rect subjectFor(const Luma8& l) const {
+        if (narrowed_) return *narrowed_;
         if (setup_.subject) return *setup_.subject;
         return {l.width / 4, l.height / 4, l.width / 2, l.height / 2};
     }
@@ -272,6 +429,9 @@ private:
     std::optional<uint64_t> start_;
     std::optional<double> commanded_;
     bool lensTagged_ = false;
+    std::optional<Rect> narrowed_;
+    int subjectId_ = 0;
+    std::vector<Sample> frames_;
     LiveAutofocus status_;
     std::string ended_;
 };
@@ -333,44 +493,95 @@ LiveAutofocus scan(Session& s, const AfSetup& setup, const std::string& why) {
 
 namespace {
 
-// The refinement: the subject's sharpness at @p centre ± @p h and the vertex of the Gaussian (a
-// parabola in log sharpness) through the three, stepping on where the best lies at an end.
-// @p atCentre is the reading already taken at @p centre.
-bool refine(Session& s, const BlurModel& model, double& pos, Reading atCentre, double h) {
-    const FocusRange& range = s.range();
-    double centre = pos;
-    for (int round = 0; round < 2; ++round) {
-        s.state(LiveAutofocusState::Refining,
-                fmt("comparing sharpness %.3g %s either side", h, range.unit));
-        const double lo = model.clamp(centre - h), hi = model.clamp(centre + h);
-        Reading rl, rh;
-        if (!s.move(lo, pos) || !s.read(rl, pos)) return false;
-        if (!s.move(hi, pos) || !s.read(rh, pos)) return false;
-        const double a = rl.sharpness, b = atCentre.sharpness, c = rh.sharpness;
-        if (!(a > 0 && b > 0 && c > 0)) {
-            pos = b >= std::max(a, c) ? centre : a > c ? lo : hi;
-            break;
+// How far a reading of @p discPx may miss, pixels: about a pixel near the floor and 6 % of the
+// width.
+double readingMissPx(double discPx) {
+    return 1.0 + 0.06 * discPx;
+}
+
+// How badly focus at @p f explains @p samples: the widths read against the widths the lens
+// predicts there, each in its own miss, and the widths too wide to read that would have read.
+double misfit(const BlurModel& m, const std::vector<Sample>& samples, double f) {
+    double cost = 0.0;
+    for (const Sample& k : samples) {
+        const double predicted = m.pxPerUnit(k.at) * std::abs(k.at - f);
+        double e = 0.0;
+        if (k.r.discPx) {
+            // Wide discs read up to a tenth short (readSubject), so their miss is wider here.
+            e = (*k.r.discPx - predicted) / (1.0 + 0.12 * *k.r.discPx);
+        } else if (k.r.tooWide) {
+            const double least = 0.8 * k.r.widestPx;
+            if (predicted < least) e = (least - predicted) / readingMissPx(least);
         }
-        const double la = std::log(a), lb = std::log(b), lc = std::log(c);
-        const double den = la - 2 * lb + lc;
-        if (den < 0) {
-            // The vertex, trusted up to half a step beyond the samples.
-            const double v = centre + 0.5 * h * (la - lc) / den;
-            if (v >= centre - 1.5 * h && v <= centre + 1.5 * h) {
-                pos = model.clamp(v);
-                break;
-            }
-        }
-        // The peak lies beyond an end: centre there and compare again.
-        centre = a > c ? lo : hi;
-        atCentre = a > c ? rl : rh;
-        pos = centre;
-        if (centre == range.min || centre == range.max) break;
+        cost += e * e;
     }
-    // Where the lens already is within the tolerance, the frame just read shows it in focus.
-    if (std::abs(pos - s.lastPosition()) <= model.tolerance(pos)) return true;
-    Reading last;
-    return s.move(pos, s.lastPosition()) && s.read(last, pos);
+    return cost;
+}
+
+// Where three samples put the sharpness peak. Sharpness falls about as 1/(1 + (defocus/w)²)
+// near focus (the edges' gradients spread over the disc), so its reciprocal is a parabola in the
+// lens position whose vertex is the peak; empty where the three do not rise to one.
+std::optional<double> vertexOf(const Sample* p) {
+    double x[3], y[3];
+    for (int i = 0; i < 3; ++i) {
+        if (!(p[i].r.sharpness > 0)) return std::nullopt;
+        x[i] = p[i].at;
+        y[i] = 1.0 / p[i].r.sharpness;
+    }
+    const double d = (x[0] - x[1]) * (x[0] - x[2]) * (x[1] - x[2]);
+    if (d == 0) return std::nullopt;
+    const double a = (x[2] * (y[1] - y[0]) + x[1] * (y[0] - y[2]) + x[0] * (y[2] - y[1])) / d;
+    const double b =
+        (x[2] * x[2] * (y[0] - y[1]) + x[1] * x[1] * (y[2] - y[0]) + x[0] * x[0] * (y[1] - y[2])) /
+        d;
+    if (!(a > 0)) return std::nullopt;
+    return -b / (2 * a);
+}
+
+// Rounds of three samples about a predicted focus before autofocus settles for its sharpest.
+constexpr int kRounds = 4;
+// How much better (in squared misses) one candidate must explain the samples to be preferred.
+constexpr double kClearlyBetter = 4.0;
+
+// Learns the blur per control unit from the widths read at several lens positions: two positions
+// give the slope between them (taken on one side of focus); three or more, the V k·|x − F| that
+// fits them best.
+void learnBlurPerUnit(BlurModel& model, const std::vector<Sample>& frames,
+                      const FocusRange& range) {
+    std::vector<std::pair<double, double>> v;  // position, width
+    for (const Sample& k : frames)
+        if (k.r.discPx &&
+            std::none_of(v.begin(), v.end(), [&](const auto& p) { return p.first == k.at; }))
+            v.emplace_back(k.at, *k.r.discPx);
+    if (v.size() < 2) return;
+    if (v.size() == 2) {
+        const double moved = std::abs(v[1].first - v[0].first);
+        const double change = std::abs(v[1].second - v[0].second);
+        if (moved > 0 && change > 0.5) model.learn(change / moved);
+        return;
+    }
+    const double span = range.max - range.min;
+    double best = std::numeric_limits<double>::infinity(), bestK = 0.0;
+    for (int i = 0; i <= 600; ++i) {
+        const double f = range.min - 0.1 * span + 1.2 * span * i / 600;
+        double num = 0.0, den = 0.0;
+        for (const auto& [x, b] : v) {
+            num += b * std::abs(x - f);
+            den += (x - f) * (x - f);
+        }
+        if (!(den > 0) || !(num > 0)) continue;
+        const double k = num / den;
+        double cost = 0.0;
+        for (const auto& [x, b] : v) {
+            const double e = (b - k * std::abs(x - f)) / readingMissPx(b);
+            cost += e * e;
+        }
+        if (cost < best) {
+            best = cost;
+            bestK = k;
+        }
+    }
+    if (bestK > 0) model.learn(bestK);
 }
 
 }  // namespace
@@ -379,7 +590,8 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
                                const std::atomic<bool>& stop) {
     Session s(tap, setup, report, stop);
     const FocusRange& range = s.range();
-    BlurModel model(setup, range);
+    // Within a third of the depth of focus (±CoC of blur): two thirds of the CoC.
+    BlurModel model(setup, range, kOnceBlurShare);
     LiveAutofocus& st = s.status();
     st.mode = LiveAutofocusMode::Once;
     s.state(LiveAutofocusState::Probing, "reading the subject's blur");
@@ -397,76 +609,169 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
     if (auto p = tap.lensPosition()) pos = p->value;
     if (!s.read(r0, pos)) return failed(s.ended());
     const double span = range.max - range.min;
+    std::vector<Sample> samples{{pos, r0}};
+    s.recordFirst(samples[0]);
+    const auto readable = [](const Sample& k) { return k.r.discPx.has_value(); };
 
-    // Too wide to read at any level: steps of a fifth of the range, towards the larger part of
-    // it first, turning at its end.
-    double dir = pos < range.min + span / 2 ? 1.0 : -1.0;
-    for (int i = 0; i < 8 && !r0.discPx && r0.tooWide; ++i) {
-        if ((dir > 0 && pos >= range.max) || (dir < 0 && pos <= range.min)) dir = -dir;
-        s.state(LiveAutofocusState::Moving, "blur too wide to read: stepping");
-        if (!s.move(model.clamp(pos + dir * span * 0.2), pos) || !s.read(r0, pos))
-            return failed(s.ended());
+    // Too wide to read: probes until one reads. With the lens known, each probe reads the
+    // widths within its reach, so probes that far apart tile the range beyond the first frame's
+    // reach, the farther side (fewer units) first; without, steps of a fifth of the range,
+    // towards its larger part first, turning at its end.
+    if (!r0.discPx && r0.tooWide) {
+        std::vector<double> probes;
+        if (model.known()) {
+            const double reach = r0.widestPx / model.pxPerUnit(pos);
+            for (double q = pos - 1.8 * reach; q > range.min - 0.9 * reach; q -= 1.8 * reach)
+                probes.push_back(model.clamp(q));
+            for (double q = pos + 1.8 * reach; q < range.max + 0.9 * reach; q += 1.8 * reach)
+                probes.push_back(model.clamp(q));
+        } else {
+            double dir = pos < range.min + span / 2 ? 1.0 : -1.0, at = pos;
+            for (int i = 0; i < 8; ++i) {
+                if ((dir > 0 && at >= range.max) || (dir < 0 && at <= range.min)) dir = -dir;
+                at = model.clamp(at + dir * span * 0.2);
+                probes.push_back(at);
+            }
+        }
+        s.state(LiveAutofocusState::Moving, "blur too wide to read: probing");
+        if (!s.visit(probes, pos, samples, readable)) return failed(s.ended());
     }
-    if (!r0.discPx) return scan(s, setup, "too few edges in the subject to read a blur width");
+    if (!samples.back().r.discPx)
+        return scan(s, setup, "too few edges in the subject to read a blur width");
 
-    // Without lens data, one probe step learns the blur per control unit.
+    // Without lens data, the widths read so far, else probe steps, learn the blur per control
+    // unit.
+    if (!model.known()) learnBlurPerUnit(model, s.frames(), range);
     if (!model.known()) {
         double step = span * kProbeShare;
         for (int i = 0; i < 3 && !model.known(); ++i, step *= 3) {
-            const double dir = pos < range.min + span / 2 ? 1.0 : -1.0;
-            const double b0 = *r0.discPx, p0 = pos;
+            const Sample was = samples.back();
+            const double dir = was.at < range.min + span / 2 ? 1.0 : -1.0;
             s.state(LiveAutofocusState::Probing, "learning the blur per lens step");
-            if (!s.move(model.clamp(pos + dir * step), pos) || !s.read(r0, pos))
+            if (!s.visit({model.clamp(was.at + dir * step)}, pos, samples))
                 return failed(s.ended());
-            if (!r0.discPx) return scan(s, setup, "the subject's blur stopped reading");
-            const double moved = std::abs(pos - p0);
-            if (moved > 0 && std::abs(*r0.discPx - b0) > 0.5)
-                model.learn(std::abs(*r0.discPx - b0) / moved);
+            if (!samples.back().r.discPx)
+                return scan(s, setup, "the subject's blur stopped reading");
+            learnBlurPerUnit(model, s.frames(), range);
         }
         if (!model.known()) return scan(s, setup, "the blur did not change with the lens");
     }
 
-    // Two candidates, in front and behind. The farther object (fewer dioptres) is tried first,
-    // the usual subject, unless only one lies in the range; a wide blur reads less exactly, so
-    // the jump repeats from the new reading, taking the candidate the earlier reading agrees with.
-    const double b0 = *r0.discPx;
-    // How far a prediction may miss: the reading's noise near the floor (about a pixel) and 6 %
-    // of the width.
-    const double h = std::max(3 * model.tolerance(pos), model.defocus(pos, 1.0 + 0.06 * b0));
-    std::optional<double> prevPos, prevDisc;
-    for (int jump = 0; jump < 4 && r0.discPx; ++jump) {
-        const double d = model.defocus(pos, *r0.discPx);
-        if (d <= h) break;
-        const double lower = pos - d, upper = pos + d;
-        const bool both = model.inRange(lower) && model.inRange(upper);
-        double first = model.inRange(lower) ? lower : upper;
-        if (both && prevPos && prevDisc) {
-            const auto misfit = [&](double c) {
-                return std::abs(model.pxPerUnit(*prevPos) * std::abs(*prevPos - c) - *prevDisc);
-            };
-            first = misfit(lower) <= misfit(upper) ? lower : upper;
+    // Rounds about a predicted focus. The sharpest sample so far predicts it: two candidates at
+    // the defocus its width shows, in front and behind, the one that explains every sample best
+    // first (the farther on a tie, the usual subject); the reading's own position where the
+    // width is within its miss. Each round takes the sharpness either side and then at the
+    // prediction, last, so that the lens stays there when the peak lies close enough.
+    double h = 3 * model.tolerance(pos);
+    // The sharpest sample of the subject as it is now read (all of them before any narrowing).
+    const auto sharpest = [&] {
+        const Sample* best = nullptr;
+        for (const Sample& k : s.frames())
+            if (k.subject == s.subjectId() && (!best || k.r.sharpness > best->r.sharpness))
+                best = &k;
+        for (const Sample& k : s.frames())
+            if (!best || (best->subject != s.subjectId() && k.r.sharpness > best->r.sharpness))
+                best = &k;
+        return *best;
+    };
+    std::optional<double> lastCentre, lastEnd;
+    for (int round = 0; round < kRounds; ++round) {
+        Sample anchor = sharpest();
+        // Where the subject holds two surfaces (a sample's areas read two widths), the one the
+        // sharpest such sample reads is followed from now on; the widths read before may be of
+        // the other one, so only that sample's is kept.
+        if (s.subjectId() == 0) {
+            const Sample* two = nullptr;
+            for (const Sample& k : s.frames())
+                if (k.r.surface && (!two || k.r.sharpness > two->r.sharpness)) two = &k;
+            if (two) {
+                anchor = *two;
+                s.narrow(*anchor.r.surface);
+            }
         }
-        const double second = first == lower ? upper : lower;
-        s.state(LiveAutofocusState::Moving, fmt("blur %.3g px: moving", *r0.discPx, ""));
-        Reading r1;
-        const double from = pos;
-        if (!s.move(model.clamp(first), pos) || !s.read(r1, pos)) return failed(s.ended());
-        // The right side sharpens; the wrong one blurs twice as much.
-        const bool right =
-            r1.sharpness > r0.sharpness || (r1.discPx && *r1.discPx < 0.5 * *r0.discPx);
-        if (!right && both && jump == 0) {
-            s.state(LiveAutofocusState::Moving, "the other side");
-            if (!s.move(model.clamp(second), pos) || !s.read(r1, pos)) return failed(s.ended());
+        const auto explains = [&](double f) {
+            std::vector<Sample> same{anchor};
+            for (const Sample& k : s.frames())
+                if (k.subject == s.subjectId()) same.push_back(k);
+            return misfit(model, same, f);
+        };
+        std::vector<double> candidates{anchor.at};
+        if (anchor.r.discPx) {
+            const double d = model.defocus(anchor.at, *anchor.r.discPx);
+            const double miss = model.defocus(anchor.at, readingMissPx(*anchor.r.discPx));
+            // Wide discs read up to a tenth short: the samples either side reach that far.
+            h = std::max(3 * model.tolerance(anchor.at),
+                         model.defocus(anchor.at, 1.0 + 0.12 * *anchor.r.discPx));
+            if (d > miss) {
+                candidates.clear();
+                for (const double c : {anchor.at - d, anchor.at + d})
+                    if (model.inRange(c)) candidates.push_back(model.clamp(c));
+                if (candidates.empty()) candidates.push_back(model.clamp(anchor.at - d));
+                if (candidates.size() == 2 &&
+                    explains(candidates[1]) + kClearlyBetter < explains(candidates[0]))
+                    std::swap(candidates[0], candidates[1]);
+            }
         }
-        prevPos = from;
-        prevDisc = r0.discPx;
-        r0 = r1;
+        double c = candidates[0];
+        // The same prediction as the last round, whose peak lay beyond an end: step past that
+        // end instead.
+        if (lastCentre && lastEnd && std::abs(c - *lastCentre) <= model.tolerance(c))
+            c = model.clamp(*lastEnd + (*lastEnd - *lastCentre));
+        lastCentre = c;
+        s.state(round == 0 ? LiveAutofocusState::Moving : LiveAutofocusState::Refining,
+                fmt("comparing sharpness %.3g %s either side", h, range.unit));
+        // A sample the other candidate explains clearly better ends the round early. Where moves
+        // go one a frame, the first two samples and the anchor already place the peak: the lens
+        // is sent there at once, and the third sample only confirms it.
+        const size_t first = samples.size();
+        std::optional<double> early;
+        uint64_t earlyDue = 0;
+        bool asked = true;
+        const auto onSample = [&](const Sample&) {
+            if (candidates.size() == 2 &&
+                explains(candidates[1]) + kClearlyBetter < explains(candidates[0]))
+                return true;
+            if (s.pipelined() && samples.size() - first == 2 && anchor.subject == s.subjectId()) {
+                const Sample three[3] = {anchor, samples[first], samples[first + 1]};
+                const std::optional<double> v = vertexOf(three);
+                const double lo = std::min(samples[first].at, samples[first + 1].at);
+                const double hi = std::max(samples[first].at, samples[first + 1].at);
+                if (v && *v >= lo && *v <= hi && std::abs(*v - c) > model.tolerance(c)) {
+                    early = *v;
+                    asked = s.ask(*early, earlyDue);
+                }
+            }
+            return !asked;
+        };
+        if (!s.visit({model.clamp(c - h), model.clamp(c + h), c}, pos, samples, onSample) || !asked)
+            return failed(s.ended());
+        if (samples.size() - first < 3) continue;
+        // Sharpness summed over two surfaces peaks between them: narrow first.
+        if (s.subjectId() == 0 &&
+            std::any_of(samples.begin() + first, samples.end(),
+                        [](const Sample& k) { return k.r.surface.has_value(); }))
+            continue;
+        const std::optional<double> v = vertexOf(&samples[first]);
+        const double lo = std::min(samples[first].at, samples[first + 1].at);
+        const double hi = std::max(samples[first].at, samples[first + 1].at);
+        const double width = hi - lo;
+        lastEnd = samples[first].r.sharpness > samples[first + 1].r.sharpness
+                      ? samples[first].at
+                      : samples[first + 1].at;
+        // The vertex, trusted up to a quarter of the spacing beyond the samples.
+        if (!v || *v < lo - 0.25 * width || *v > hi + 0.25 * width) continue;
+        const double at = model.clamp(*v);
+        if (early && std::abs(at - *early) <= model.tolerance(at)) {
+            if (!s.await(earlyDue, pos, samples)) return failed(s.ended());
+            return focused(pos);
+        }
+        if (!early && std::abs(at - pos) <= model.tolerance(at)) return focused(pos);
+        if (!s.visit({at}, pos, samples)) return failed(s.ended());
+        return focused(pos);
     }
-    // The spacing of the refinement: the residual defocus the last reading shows, at least three
-    // tolerances so that the three sharpnesses differ.
-    double step = 3 * model.tolerance(pos);
-    if (r0.discPx) step = std::max(step, model.defocus(pos, *r0.discPx));
-    if (!refine(s, model, pos, r0, std::max(3 * model.tolerance(pos), std::min(step, h))))
+    // No round found a peak it could trust: the sharpest sample seen.
+    const Sample best = sharpest();
+    if (std::abs(best.at - pos) > model.tolerance(pos) && !s.visit({best.at}, pos, samples))
         return failed(s.ended());
     return focused(pos);
 }
@@ -553,7 +858,7 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
     (void)runAutofocusOnce(tap, setup, acquiring, stop);
     Session s(tap, setup, report, stop);
     const FocusRange& range = s.range();
-    BlurModel model(setup, range);
+    BlurModel model(setup, range, kFollowBlurShare);
     LiveAutofocus& st = s.status();
     st.mode = LiveAutofocusMode::Continuous;
     double pos = range.defaultValue;
