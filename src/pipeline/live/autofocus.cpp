@@ -26,8 +26,9 @@ constexpr int kLevels = 3;
 // next edge).
 constexpr double kWidestShare = 0.45;
 // Readings wider than this, in pixels of a 640-pixel-wide frame (proportionally more on wider
-// ones), count only as "too wide to read".
-constexpr double kWidestReadingPx = 30.0;
+// ones), count only as "too wide to read": on the simulated camera's scenes wider discs read
+// from a tenth to a third short, as the profiles of neighbouring edges run into each other.
+constexpr double kWidestReadingPx = 20.0;
 // Areas of the subject at each level are about this many pixels on a side.
 constexpr int kAreaPx = 80;
 // Readings below this confidence are left out; the median of the rest, over several areas, is
@@ -38,8 +39,8 @@ constexpr int kMinAreas = 2;
 // The blur a perfectly focused edge still measures (pixel, optics, estimator), px; removed in
 // quadrature before a width is turned into a defocus.
 constexpr double kFloorPx = 1.5;
-// Areas whose widths differ by more than this ratio, in two groups of at least a quarter of
-// them each and further apart than a reading's noise (pixels), read two surfaces.
+// Two groups of areas, each at least a quarter of them, whose median widths differ by more than
+// this ratio and a reading's noise (pixels), read two surfaces.
 constexpr double kSurfaceGap = 2.0;
 constexpr double kReadingNoisePx = 2.5;
 // The share of the circle of confusion a focused subject's blur keeps: one-shot autofocus ends
@@ -51,10 +52,11 @@ constexpr double kProbeShare = 0.04;
 
 // The subject's blur on one frame.
 struct Reading {
-    std::optional<double> discPx;        // full-frame pixels, floor removed; empty: no reading
-    bool tooWide = false;                // edges found, but their blur beyond every level's reach
-    int areas = 0;                       // confident areas at the level used
-    double sharpness = 0.0;              // the subject's focus measure at full resolution
+    std::optional<double> discPx;  // full-frame pixels, floor removed; empty: no reading
+    bool tooWide = false;          // no width read, the subject not sharp enough to be near focus
+    bool edges = false;            // some level's areas read widths, all beyond its reach
+    int areas = 0;                 // confident areas at the level used
+    double sharpness = 0.0;        // the subject's focus measure at full resolution
     double widestPx = kWidestReadingPx;  // the widest disc this frame's size reads
     // Where the areas read two surfaces: the one nearer focus, whose width discPx is.
     std::optional<Rect> surface;
@@ -110,12 +112,31 @@ double subjectWidth(std::vector<std::pair<double, Rect>> widths, std::vector<Rec
     std::sort(widths.begin(), widths.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
     const size_t n = widths.size(), least = std::max<size_t>(2, (n + 3) / 4);
+    // The split into a narrower and a wider group that best separates their logarithms (the
+    // variance between the groups at its largest), taken where the groups' medians lie apart by
+    // more than kSurfaceGap and a reading's noise.
+    std::vector<double> logs;
+    for (const auto& w : widths)
+        logs.push_back(std::log(std::max(w.first, 0.1)));
     size_t split = 0;
-    double widest = kSurfaceGap;
+    double most = 0.0;
     for (size_t i = least; i + least <= n; ++i) {
-        const double lo = widths[i - 1].first, hi = widths[i].first;
-        if (lo > 0 && hi / lo > widest && hi - lo > kReadingNoisePx) {
-            widest = hi / lo;
+        double lo = 0.0, hi = 0.0;
+        for (size_t j = 0; j < n; ++j)
+            (j < i ? lo : hi) += logs[j];
+        lo /= static_cast<double>(i);
+        hi /= static_cast<double>(n - i);
+        const double between =
+            static_cast<double>(i) * static_cast<double>(n - i) * (hi - lo) * (hi - lo);
+        const auto middle = [&](size_t from, size_t to) {
+            const size_t m = to - from;
+            return m % 2 ? widths[from + m / 2].first
+                         : 0.5 * (widths[from + m / 2 - 1].first + widths[from + m / 2].first);
+        };
+        const double narrow = middle(0, i), wide = middle(i, n);
+        if (between > most && narrow > 0 && wide / narrow > kSurfaceGap &&
+            wide - narrow > kReadingNoisePx) {
+            most = between;
             split = i;
         }
     }
@@ -185,6 +206,7 @@ Reading readSubject(const Luma8& luma, const Rect& subject) {
         }
         return out;
     }
+    out.edges = edges;
     out.tooWide = edges || out.sharpness > 0;
     return out;
 }
@@ -509,7 +531,7 @@ double misfit(const BlurModel& m, const std::vector<Sample>& samples, double f) 
         if (k.r.discPx) {
             // Wide discs read up to a tenth short (readSubject), so their miss is wider here.
             e = (*k.r.discPx - predicted) / (1.0 + 0.12 * *k.r.discPx);
-        } else if (k.r.tooWide) {
+        } else if (k.r.edges) {
             const double least = 0.8 * k.r.widestPx;
             if (predicted < least) e = (least - predicted) / readingMissPx(least);
         }
@@ -702,7 +724,8 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
             // Wide discs read up to a tenth short: the samples either side reach that far.
             h = std::max(3 * model.tolerance(anchor.at),
                          model.defocus(anchor.at, 1.0 + 0.12 * *anchor.r.discPx));
-            if (d > miss) {
+            // A width within the floor's reach says "near focus", not on which side.
+            if (d > miss && *anchor.r.discPx > kFloorPx) {
                 candidates.clear();
                 for (const double c : {anchor.at - d, anchor.at + d})
                     if (model.inRange(c)) candidates.push_back(model.clamp(c));
@@ -736,8 +759,11 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
                 const std::optional<double> v = vertexOf(three);
                 const double lo = std::min(samples[first].at, samples[first + 1].at);
                 const double hi = std::max(samples[first].at, samples[first + 1].at);
-                if (v && *v >= lo && *v <= hi && std::abs(*v - c) > model.tolerance(c)) {
-                    early = *v;
+                // Trusted, as the full fit below, up to a quarter of the spacing beyond.
+                const double reach = 0.25 * (hi - lo);
+                if (v && *v >= lo - reach && *v <= hi + reach &&
+                    std::abs(*v - c) > model.tolerance(c)) {
+                    early = model.clamp(*v);
                     asked = s.ask(*early, earlyDue);
                 }
             }
