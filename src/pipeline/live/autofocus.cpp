@@ -41,7 +41,7 @@ constexpr int kMinAreas = 2;
 constexpr double kFloorPx = 1.5;
 // Two groups of areas, each at least a quarter of them, whose median widths differ by more than
 // this ratio and a reading's noise (pixels), read two surfaces.
-constexpr double kSurfaceGap = 2.0;
+constexpr double kSurfaceGap = 1.8;
 constexpr double kReadingNoisePx = 2.5;
 // The share of the circle of confusion a focused subject's blur keeps: one-shot autofocus ends
 // within a third of the depth of focus; following a moving subject aims closer, as the lens lags.
@@ -325,9 +325,11 @@ public:
     // one move is asked for each frame, so the frames in flight of one move show the ones
     // before it; elsewhere each move waits for the lens to come to rest. Either way a target's
     // sample is the first frame its move's settle count names, at the position that frame
-    // carries.
+    // carries. Where moves go one a frame, @p stale sees the frames of earlier moves still in
+    // flight and may end the visit too.
     bool visit(const std::vector<double>& targets, double& pos, std::vector<Sample>& out,
-               const std::function<bool(const Sample&)>& enough = {}) {
+               const std::function<bool(const Sample&)>& enough = {},
+               const std::function<bool(const Sample&)>& stale = {}) {
         if (!lensTagged_) {
             for (const double t : targets) {
                 Sample smp;
@@ -367,7 +369,11 @@ public:
                 due.pop_front();
                 reached = true;
             }
-            if (!reached) continue;
+            if (!reached) {
+                // A frame of an earlier move, still in flight.
+                if (stale && stale(smp)) return true;
+                continue;
+            }
             out.push_back(smp);
             if (enough && enough(out.back())) return true;
         }
@@ -637,14 +643,15 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
 
     // Too wide to read: probes until one reads. With the lens known, each probe reads the
     // widths within its reach, so probes that far apart tile the range beyond the first frame's
-    // reach, the farther side (fewer units) first; without, steps of a fifth of the range,
-    // towards its larger part first, turning at its end.
+    // reach, from the far end (subjects spread evenly in distance crowd the few dioptres nearest
+    // infinity); without, steps of a fifth of the range, towards its larger part first, turning
+    // at its end.
     if (!r0.discPx && r0.tooWide) {
         std::vector<double> probes;
         if (model.known()) {
             const double reach = r0.widestPx / model.pxPerUnit(pos);
             for (double q = pos - 1.8 * reach; q > range.min - 0.9 * reach; q -= 1.8 * reach)
-                probes.push_back(model.clamp(q));
+                probes.insert(probes.begin(), model.clamp(q));
             for (double q = pos + 1.8 * reach; q < range.max + 0.9 * reach; q += 1.8 * reach)
                 probes.push_back(model.clamp(q));
         } else {
@@ -769,7 +776,14 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
             }
             return !asked;
         };
-        if (!s.visit({model.clamp(c - h), model.clamp(c + h), c}, pos, samples, onSample) || !asked)
+        // A frame of an earlier move that shows the subject far sharper than the anchor did
+        // places the peak better: the next round starts from it.
+        const auto sharper = [&](const Sample& k) {
+            return k.r.discPx && k.r.sharpness > 2 * anchor.r.sharpness;
+        };
+        if (!s.visit({model.clamp(c - h), model.clamp(c + h), c}, pos, samples, onSample,
+                     sharper) ||
+            !asked)
             return failed(s.ended());
         if (samples.size() - first < 3) continue;
         // Sharpness summed over two surfaces peaks between them: narrow first.
