@@ -226,6 +226,8 @@ public:
         if (s.cocM && s.pixelPitchM && *s.pixelPitchM > 0) cocPx_ = *s.cocM / *s.pixelPitchM;
     }
     bool known() const { return lens_ || learnt_; }
+    // Whether the blur per unit comes from the lens and pixel rather than from probes.
+    bool fromLens() const { return lens_.has_value(); }
     // Disc pixels per control unit of defocus with the lens at @p position.
     double pxPerUnit(double position) const {
         if (lens_) {
@@ -663,9 +665,15 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
             }
         }
         s.state(LiveAutofocusState::Moving, "blur too wide to read: probing");
-        if (!s.visit(probes, pos, samples, readable)) return failed(s.ended());
+        // Without lens data two widths learn the blur per unit with no probe of their own.
+        const bool known = model.known();
+        const auto enough = [&](const Sample& k) {
+            return known ? readable(k)
+                         : std::count_if(samples.begin(), samples.end(), readable) >= 2;
+        };
+        if (!s.visit(probes, pos, samples, enough)) return failed(s.ended());
     }
-    if (!samples.back().r.discPx)
+    if (std::none_of(samples.begin(), samples.end(), readable))
         return scan(s, setup, "too few edges in the subject to read a blur width");
 
     // Without lens data, the widths read so far, else probe steps, learn the blur per control
@@ -674,7 +682,7 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
     if (!model.known()) {
         double step = span * kProbeShare;
         for (int i = 0; i < 3 && !model.known(); ++i, step *= 3) {
-            const Sample was = samples.back();
+            const Sample was = *std::find_if(samples.rbegin(), samples.rend(), readable);
             const double dir = was.at < range.min + span / 2 ? 1.0 : -1.0;
             s.state(LiveAutofocusState::Probing, "learning the blur per lens step");
             if (!s.visit({model.clamp(was.at + dir * step)}, pos, samples))
@@ -704,7 +712,10 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
         return *best;
     };
     std::optional<double> lastCentre, lastEnd;
+    const bool learnt = !model.fromLens();
     for (int round = 0; round < kRounds; ++round) {
+        // A blur per unit learnt from probes improves with every width read since.
+        if (learnt) learnBlurPerUnit(model, s.frames(), range);
         Sample anchor = sharpest();
         // Where the subject holds two surfaces (a sample's areas read two widths), the one the
         // sharpest such sample reads is followed from now on; the widths read before may be of
