@@ -361,8 +361,9 @@ TEST_CASE("continuous autofocus follows a plane moving from 1 m to 0.5 m") {
         inCoc, frames, coc, 100.0 * share, stillInCoc);
     CHECK(frames > 30);
     CHECK(inCoc > stillInCoc);
-    // Following from the blur alone keeps about 60 % in this 1 px CoC, whose edge lies under the
-    // blur reading's floor; a lens that waits out each move keeps under 10 %.
-    CHECK(share >= 0.4);
+    // Following from the blur alone keeps about 80 % in this 1 px CoC, whose edge lies under the
+    // blur reading's floor (63-88 % over 15 runs); a lens that waits out each move keeps under
+    // 10 %.
+    CHECK(share >= 0.5);
     p->stop();
 }

@@ -956,17 +956,19 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
         while (seen.size() > kSightings)
             seen.pop_front();
         const double tolerance = model.tolerance(pos);
-        track = fitSubject(seen, track, std::max(2 * tolerance, seen.back().miss), fastest);
+        // The prior track only breaks ties: weighed as much as a sighting, it held a lens that
+        // had overshot a subject come to a stop to the track it no longer followed.
+        track = fitSubject(seen, track, 3 * std::max(2 * tolerance, seen.back().miss), fastest);
         // A subject that moves is led to where it will be when the first frame shows the lens at
-        // rest, and a tolerance beyond, so that it passes through focus while the lens holds. One
-        // that stays put moves the lens at most once a second, so noise in its reading never
-        // hunts.
+        // rest, and half a tolerance beyond, so that it passes through focus while the lens holds.
+        // One that stays put moves the lens at most once a second after a move made for it, so
+        // noise in its reading never hunts; the first move after it stops comes at once.
         const bool moving = std::abs(track.speed) * framesPerSecond > 2 * tolerance &&
                             std::abs(track.speed) > speedMiss(seen);
         double target = track.at;
         if (moving)
             target += track.speed * (tap.framesToSettle(commanded, target) + 1) +
-                      std::copysign(tolerance, track.speed);
+                      std::copysign(0.5 * tolerance, track.speed);
         target = model.clamp(target);
         const double off = std::abs(target - commanded);
         // Beyond twice a reading's miss the subject has left focus: no reason to wait.
@@ -983,7 +985,7 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
         // for the move to end.
         if (!(s.lensTagged() ? s.command(target) : s.move(target, pos))) return;
         commanded = target;
-        lastMove = frame;
+        if (!moving) lastMove = frame;
     }
 }
 
