@@ -230,13 +230,18 @@ public:
     bool fromLens() const { return lens_.has_value(); }
     // Disc pixels per control unit of defocus with the lens at @p position.
     double pxPerUnit(double position) const {
-        if (lens_) {
-            // ΔX_i = A·z_s·|1/u − 1/z_o| with z_s = 1/(1/f − D) for the lens at D dioptres.
-            const double zs = 1.0 / std::max(1e-6, 1.0 / lens_->focalLength - position);
-            return lens_->aperture() * zs / pitch_;
-        }
+        if (lens_) return scale_ * lensPxPerUnit(position);
         return learnt_.value_or(0.0);
     }
+    // The lens data's own disc pixels per dioptre, before any rescale.
+    double lensPxPerUnit(double position) const {
+        // ΔX_i = A·z_s·|1/u − 1/z_o| with z_s = 1/(1/f − D) for the lens at D dioptres.
+        const double zs = 1.0 / std::max(1e-6, 1.0 / lens_->focalLength - position);
+        return lens_->aperture() * zs / pitch_;
+    }
+    // Scales the lens data's blur per dioptre to what the frames show (a pixel pitch or an
+    // f-number given wrong).
+    void rescale(double s) { scale_ = s; }
     void learn(double pxPerUnit) { learnt_ = pxPerUnit; }
     // How far from focus, in control units, a lens at @p position seeing @p discPx is.
     double defocus(double position, double discPx) const {
@@ -263,6 +268,7 @@ private:
     double pitch_ = 0.0;
     double cocPx_ = 1.0;
     double blurShare_ = 1.0;
+    double scale_ = 1.0;
     std::optional<double> learnt_;
 };
 
@@ -568,6 +574,8 @@ std::optional<double> vertexOf(const Sample* p) {
     return -b / (2 * a);
 }
 
+// Lens data whose blur per dioptre the widths read confirm within this ratio (either way) stands.
+constexpr double kTrustedScale = 0.7;
 // Rounds of three samples about a predicted focus before autofocus settles for its sharpest.
 constexpr int kRounds = 4;
 // How much better (in squared misses) one candidate must explain the samples to be preferred.
@@ -576,22 +584,13 @@ constexpr double kClearlyBetter = 4.0;
 // Learns the blur per control unit from the widths read at several lens positions: two positions
 // give the slope between them (taken on one side of focus); three or more, the V k·|x − F| that
 // fits them best.
-void learnBlurPerUnit(BlurModel& model, const std::vector<Sample>& frames,
-                      const FocusRange& range) {
-    std::vector<std::pair<double, double>> v;  // position, width
-    for (const Sample& k : frames)
-        if (k.r.discPx &&
-            std::none_of(v.begin(), v.end(), [&](const auto& p) { return p.first == k.at; }))
-            v.emplace_back(k.at, *k.r.discPx);
-    if (v.size() < 2) return;
-    if (v.size() == 2) {
-        const double moved = std::abs(v[1].first - v[0].first);
-        const double change = std::abs(v[1].second - v[0].second);
-        if (moved > 0 && change > 0.5) model.learn(change / moved);
-        return;
-    }
+// The V k·|x − F| that best fits the widths of @p frames read at three or more lens positions
+// (k, F); empty with fewer.
+std::optional<std::pair<double, double>> fitV(const std::vector<std::pair<double, double>>& v,
+                                              const FocusRange& range) {
+    if (v.size() < 3) return std::nullopt;
     const double span = range.max - range.min;
-    double best = std::numeric_limits<double>::infinity(), bestK = 0.0;
+    double best = std::numeric_limits<double>::infinity(), bestK = 0.0, bestF = 0.0;
     for (int i = 0; i <= 600; ++i) {
         const double f = range.min - 0.1 * span + 1.2 * span * i / 600;
         double num = 0.0, den = 0.0;
@@ -609,9 +608,37 @@ void learnBlurPerUnit(BlurModel& model, const std::vector<Sample>& frames,
         if (cost < best) {
             best = cost;
             bestK = k;
+            bestF = f;
         }
     }
-    if (bestK > 0) model.learn(bestK);
+    if (!(bestK > 0)) return std::nullopt;
+    return std::pair{bestK, bestF};
+}
+
+// The widths read at distinct lens positions (position, width) of the frames of @p subject
+// (every frame's where it is negative).
+std::vector<std::pair<double, double>> widthsRead(const std::vector<Sample>& frames, int subject) {
+    std::vector<std::pair<double, double>> v;
+    for (const Sample& k : frames)
+        if (k.r.discPx && (subject < 0 || k.subject == subject) &&
+            std::none_of(v.begin(), v.end(), [&](const auto& p) { return p.first == k.at; }))
+            v.emplace_back(k.at, *k.r.discPx);
+    return v;
+}
+
+// Learns the blur per control unit from the widths read at several lens positions: two positions
+// give the slope between them (taken on one side of focus); three or more, the V k·|x − F| that
+// fits them best.
+void learnBlurPerUnit(BlurModel& model, const std::vector<Sample>& frames,
+                      const FocusRange& range) {
+    const auto v = widthsRead(frames, -1);
+    if (v.size() == 2) {
+        const double moved = std::abs(v[1].first - v[0].first);
+        const double change = std::abs(v[1].second - v[0].second);
+        if (moved > 0 && change > 0.5) model.learn(change / moved);
+    } else if (const auto k = fitV(v, range)) {
+        model.learn(k->first);
+    }
 }
 
 }  // namespace
@@ -712,10 +739,19 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
         return *best;
     };
     std::optional<double> lastCentre, lastEnd;
+    // A move asked for within a round that no later one has replaced: the lens is going there.
+    bool earlyPending = false;
     const bool learnt = !model.fromLens();
     for (int round = 0; round < kRounds; ++round) {
-        // A blur per unit learnt from probes improves with every width read since.
-        if (learnt) learnBlurPerUnit(model, s.frames(), range);
+        // A blur per unit learnt from probes improves with every width read since. Lens data
+        // given wrong (a pixel pitch, an f-number) is scaled to the widths read where they
+        // disagree by more than the estimator's own bias on wide discs.
+        if (learnt) {
+            learnBlurPerUnit(model, s.frames(), range);
+        } else if (const auto v = fitV(widthsRead(s.frames(), s.subjectId()), range)) {
+            const double ratio = v->first / model.lensPxPerUnit(v->second);
+            model.rescale(ratio < kTrustedScale || ratio > 1.0 / kTrustedScale ? ratio : 1.0);
+        }
         Sample anchor = sharpest();
         // Where the subject holds two surfaces (a sample's areas read two widths), the one the
         // sharpest such sample reads is followed from now on; the widths read before may be of
@@ -783,6 +819,7 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
                     std::abs(*v - c) > model.tolerance(c)) {
                     early = model.clamp(*v);
                     asked = s.ask(*early, earlyDue);
+                    earlyPending = true;
                 }
             }
             return !asked;
@@ -792,6 +829,7 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
         const auto sharper = [&](const Sample& k) {
             return k.r.discPx && k.r.sharpness > 2 * anchor.r.sharpness;
         };
+        earlyPending = false;
         if (!s.visit({model.clamp(c - h), model.clamp(c + h), c}, pos, samples, onSample,
                      sharper) ||
             !asked)
@@ -822,7 +860,8 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
     }
     // No round found a peak it could trust: the sharpest sample seen.
     const Sample best = sharpest();
-    if (std::abs(best.at - pos) > model.tolerance(pos) && !s.visit({best.at}, pos, samples))
+    if ((earlyPending || std::abs(best.at - pos) > model.tolerance(pos)) &&
+        !s.visit({best.at}, pos, samples))
         return failed(s.ended());
     return focused(pos);
 }
