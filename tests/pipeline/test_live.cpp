@@ -361,9 +361,9 @@ TEST_CASE("continuous autofocus follows a plane moving from 1 m to 0.5 m") {
         inCoc, frames, coc, 100.0 * share, stillInCoc);
     CHECK(frames > 30);
     CHECK(inCoc > stillInCoc);
-    // Following from the blur alone keeps about 80 % in this 1 px CoC, whose edge lies under the
-    // blur reading's floor (63-88 % over 15 runs); a lens that waits out each move keeps under
-    // 10 %.
-    CHECK(share >= 0.5);
+    // The blur's floor (1.5 px) lies over this 1 px CoC; within it the sharpness against the
+    // acquisition's peak reads the defocus: 91-98 % over 15 runs on a quiet host. A lens that
+    // waits out each move keeps under 10 %, the blur alone about 80 %.
+    CHECK(share >= 0.7);
     p->stop();
 }

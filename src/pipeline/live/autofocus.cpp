@@ -554,10 +554,15 @@ double misfit(const BlurModel& m, const std::vector<Sample>& samples, double f) 
     return cost;
 }
 
+// The sharpness peak three samples show: where, how sharp, and its half width w (lens units).
+struct Peak {
+    double at = 0.0, sharpness = 0.0, halfWidth = 0.0;
+};
+
 // Where three samples put the sharpness peak. Sharpness falls about as 1/(1 + (defocus/w)²)
 // near focus (the edges' gradients spread over the disc), so its reciprocal is a parabola in the
 // lens position whose vertex is the peak; empty where the three do not rise to one.
-std::optional<double> vertexOf(const Sample* p) {
+std::optional<Peak> peakOf(const Sample* p) {
     double x[3], y[3];
     for (int i = 0; i < 3; ++i) {
         if (!(p[i].r.sharpness > 0)) return std::nullopt;
@@ -571,7 +576,15 @@ std::optional<double> vertexOf(const Sample* p) {
         (x[2] * x[2] * (y[0] - y[1]) + x[1] * x[1] * (y[2] - y[0]) + x[0] * x[0] * (y[1] - y[2])) /
         d;
     if (!(a > 0)) return std::nullopt;
-    return -b / (2 * a);
+    const double c = y[0] - a * x[0] * x[0] - b * x[0];
+    const double least = c - b * b / (4 * a);
+    if (!(least > 0)) return std::nullopt;
+    return Peak{-b / (2 * a), 1.0 / least, std::sqrt(least / a)};
+}
+
+std::optional<double> vertexOf(const Sample* p) {
+    const std::optional<Peak> k = peakOf(p);
+    return k ? std::optional<double>(k->at) : std::nullopt;
 }
 
 // Lens data whose blur per dioptre the widths read confirm within this ratio (either way) stands.
@@ -643,8 +656,12 @@ void learnBlurPerUnit(BlurModel& model, const std::vector<Sample>& frames,
 
 }  // namespace
 
-LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfReport& report,
-                               const std::atomic<bool>& stop) {
+namespace {
+
+// runAutofocusOnce, which also gives the shape of the last sharpness peak it fitted to
+// @p peakOut (left alone where it fitted none).
+LiveAutofocus focusOnce(FrameTap& tap, const AfSetup& setup, const AfReport& report,
+                        const std::atomic<bool>& stop, Peak* peakOut) {
     Session s(tap, setup, report, stop);
     const FocusRange& range = s.range();
     // Within a third of the depth of focus (±CoC of blur): two thirds of the CoC.
@@ -840,7 +857,10 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
             std::any_of(samples.begin() + first, samples.end(),
                         [](const Sample& k) { return k.r.surface.has_value(); }))
             continue;
-        const std::optional<double> v = vertexOf(&samples[first]);
+        const std::optional<Peak> peak = peakOf(&samples[first]);
+        const std::optional<double> v =
+            peak ? std::optional<double>(peak->at) : std::optional<double>();
+        if (peak && peakOut) *peakOut = *peak;
         const double lo = std::min(samples[first].at, samples[first + 1].at);
         const double hi = std::max(samples[first].at, samples[first + 1].at);
         const double width = hi - lo;
@@ -866,10 +886,19 @@ LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfRepo
     return focused(pos);
 }
 
+}  // namespace
+
+LiveAutofocus runAutofocusOnce(FrameTap& tap, const AfSetup& setup, const AfReport& report,
+                               const std::atomic<bool>& stop) {
+    return focusOnce(tap, setup, report, stop, nullptr);
+}
+
 namespace {
 
 // Sightings of a moving subject that the fit weighs: about a quarter second at 30 fps.
 constexpr size_t kSightings = 8;
+// How far a defocus read off the sharpness may miss, as a share of the peak's half width.
+constexpr double kSharpMissShare = 0.1;
 // The fastest subject followed, in shares of the lens's range a second.
 constexpr double kFastestShare = 0.3;
 
@@ -895,6 +924,9 @@ Track fitSubject(const std::deque<Sighting>& seen, const Track& prior, double pr
     Track best{now.frame, now.lens, 0.0};
     double bestCost = std::numeric_limits<double>::infinity();
     const double expected = prior.atFrame(now.frame);
+    // Subjects stop more often than they double their speed: on a tie, the slower track. A lens
+    // moving on at a stopped subject's old speed sees the same growing blur either way.
+    const double speedScale = 2.0 * std::max(std::abs(prior.speed), 0.1 * fastest);
     constexpr int kSpeeds = 100;
     for (const double side : {-1.0, 1.0}) {
         for (int j = -2; j <= 2; ++j) {
@@ -902,7 +934,7 @@ Track fitSubject(const std::deque<Sighting>& seen, const Track& prior, double pr
             const double p = (at - expected) / priorMiss;
             for (int i = -kSpeeds; i <= kSpeeds; ++i) {
                 const double v = fastest * i / kSpeeds;
-                double cost = p * p;
+                double cost = p * p + (v / speedScale) * (v / speedScale);
                 for (const Sighting& k : seen) {
                     const double e =
                         (std::abs(at + v * (k.frame - now.frame) - k.lens) - k.defocus) / k.miss;
@@ -945,7 +977,13 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
         c.mode = LiveAutofocusMode::Continuous;
         if (report) report(c);
     };
-    (void)runAutofocusOnce(tap, setup, acquiring, stop);
+    // The sharpness peak's shape, from the acquisition's last fit: near focus, where widths
+    // read 0, how far the sharpness has fallen from its peak tells the defocus.
+    std::optional<Peak> peak;
+    Peak fitted;
+    if (focusOnce(tap, setup, acquiring, stop, &fitted).state == LiveAutofocusState::Focused &&
+        fitted.halfWidth > 0)
+        peak = fitted;
     Session s(tap, setup, report, stop);
     const FocusRange& range = s.range();
     BlurModel model(setup, range, kFollowBlurShare);
@@ -961,10 +999,15 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
     Track track;
     double commanded = pos;
     int lost = 0, lastMove = -1000;
+    // The subject's sharpness over the last second: its greatest stands for the peak's.
+    std::deque<double> recent;
     Reading r;
     while (!stop) {
         if (!s.read(r, pos)) return;
         const int frame = st.frames;
+        recent.push_back(r.sharpness);
+        while (recent.size() > static_cast<size_t>(framesPerSecond))
+            recent.pop_front();
         if (!r.discPx) {
             // Lost: a subject gone far out of focus is found again once it stays lost a second.
             s.state(LiveAutofocusState::Holding,
@@ -972,7 +1015,12 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
                               : "too few confident edges in the subject to follow");
             if (r.tooWide && ++lost > 30) {
                 lost = 0;
-                (void)runAutofocusOnce(tap, setup, acquiring, stop);
+                fitted = {};
+                if (focusOnce(tap, setup, acquiring, stop, &fitted).state ==
+                        LiveAutofocusState::Focused &&
+                    fitted.halfWidth > 0)
+                    peak = fitted;
+                recent.clear();
                 if (auto p = tap.lensPosition()) pos = p->value;
                 seen.clear();
                 commanded = pos;
@@ -989,9 +1037,24 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
         // The frames in flight after an acquisition showed the subject in focus where they
         // were exposed: the track starts there.
         if (seen.empty()) track = {frame, pos, 0.0};
-        // The reading's miss: about a pixel near the floor and 6 % of the width.
-        seen.push_back({frame, pos, model.defocus(pos, *r.discPx),
-                        model.defocus(pos, 1.0 + 0.06 * *r.discPx)});
+        // The reading's miss: about a pixel near the floor and 6 % of the width. Within the
+        // floor the sharpness reads the defocus finer: S = S_peak / (1 + (defocus / w)²).
+        Sighting now{frame, pos, model.defocus(pos, *r.discPx),
+                     model.defocus(pos, 1.0 + 0.06 * *r.discPx)};
+        if (peak && *r.discPx < kFloorPx && r.sharpness > 0) {
+            // The fitted peak stands in until a second of frames shows the subject as it is now.
+            double top = *std::max_element(recent.begin(), recent.end());
+            if (recent.size() < static_cast<size_t>(framesPerSecond))
+                top = std::max(top, peak->sharpness);
+            // No further than the width allows: a subject whose own detail changes (not its
+            // focus) must not read as far out of focus while its edges stay sharp.
+            const double d =
+                std::min(peak->halfWidth * std::sqrt(std::max(0.0, top / r.sharpness - 1.0)),
+                         model.defocus(pos, kFloorPx + 1.0));
+            now.defocus = d;
+            now.miss = std::max(kSharpMissShare * peak->halfWidth, 0.1 * d);
+        }
+        seen.push_back(now);
         while (seen.size() > kSightings)
             seen.pop_front();
         const double tolerance = model.tolerance(pos);
