@@ -76,7 +76,79 @@ std::unique_ptr<live_detail::SourceTap> openBracket(const fs::path& csv, double 
     return tap;
 }
 
+// The frames continuous autofocus reads and the moves it asks for, the frames ending after a
+// given count.
+class CountingTap final : public live_detail::FrameTap {
+public:
+    CountingTap(live_detail::SourceTap& inner, uint64_t frames) : inner_(inner), left_(frames) {}
+    Result<Frame> next(uint64_t& seen) override {
+        if (left_ == 0) return makeError(ErrorKind::EndOfStream, "the test's frames ended");
+        --left_;
+        return inner_.next(seen);
+    }
+    Result<LensPosition> lensPosition() override { return inner_.lensPosition(); }
+    Status moveLens(double value, uint64_t& before) override {
+        ++moves;
+        return inner_.moveLens(value, before);
+    }
+    FocusRange range() const override { return inner_.range(); }
+    int settleFrames() const override { return inner_.settleFrames(); }
+    int framesToSettle(double from, double to) const override {
+        return inner_.framesToSettle(from, to);
+    }
+    SourceInfo info() const override { return inner_.info(); }
+    int moves = 0;
+
+private:
+    live_detail::SourceTap& inner_;
+    uint64_t left_;
+};
+
 }  // namespace
+
+TEST_CASE("continuous autofocus holds still on a textureless subject and says why") {
+    // Twelve flat grey frames with a sensor's noise (uniform ±3 grey levels), a bracket at
+    // 0–11 mm: no edge anywhere, yet a sharpness above 0.
+    const fs::path dir = fs::temp_directory_path() / "infocus-test-af-flat";
+    fs::remove_all(dir);
+    fs::create_directories(dir / "frames");
+    std::ofstream csv(dir / "positions.csv");
+    csv << "frame,position,unit\n";
+    uint32_t state = 12345;
+    for (int i = 0; i < 12; ++i) {
+        char name[32];
+        std::snprintf(name, sizeof name, "f%02d.pgm", i);
+        std::ofstream pgm(dir / "frames" / name, std::ios::binary);
+        pgm << "P5\n320 240\n255\n";
+        for (int p = 0; p < 320 * 240; ++p) {
+            state = state * 1664525u + 1013904223u;
+            pgm.put(static_cast<char>(96 + static_cast<int>(state >> 29) - 3));
+        }
+        csv << i << "," << i << ",mm\n";
+    }
+    csv.close();
+    char text[512];
+    std::snprintf(text, sizeof text, "%s,bracket=%s,pace=fast,focus=5", (dir / "frames").c_str(),
+                  (dir / "positions.csv").c_str());
+    auto src = openSource(text);
+    REQUIRE(src);
+    live_detail::SourceTap inner(std::move(*src));
+    REQUIRE(inner.start());
+    CountingTap tap(inner, 90);  // three seconds at 30 fps
+    std::vector<LiveAutofocus> reports;
+    std::atomic<bool> stop{false};
+    live_detail::runAutofocusContinuous(
+        tap, {}, [&](const LiveAutofocus& a) { reports.push_back(a); }, stop);
+    REQUIRE_FALSE(reports.empty());
+    std::printf(
+        "continuous autofocus on a flat, noisy subject: %d lens moves in 90 frames, %s: %s\n",
+        tap.moves, std::string(liveAutofocusStateName(reports.back().state)).c_str(),
+        reports.back().reason.c_str());
+    CHECK(tap.moves == 0);
+    CHECK(reports.back().state == LiveAutofocusState::Holding);
+    CHECK(reports.back().reason.find("edges") != std::string::npos);
+    fs::remove_all(dir);
+}
 
 TEST_CASE("autofocus on the Pi sweep as a lens ends at its sharpest frame") {
     if (!fs::exists(kSweep / "z070_Z-050.jpg")) {

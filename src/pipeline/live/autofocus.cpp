@@ -897,6 +897,9 @@ namespace {
 
 // Sightings of a moving subject that the fit weighs: about a quarter second at 30 fps.
 constexpr size_t kSightings = 8;
+// Why continuous focus holds on a subject without an edge to read.
+constexpr const char* kNoEdges =
+    "too few confident edges in the subject to follow (dark or textureless?)";
 // How far a defocus read off the sharpness may miss, as a share of the peak's half width.
 constexpr double kSharpMissShare = 0.1;
 // The fastest subject followed, in shares of the lens's range a second.
@@ -977,6 +980,20 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
         c.mode = LiveAutofocusMode::Continuous;
         if (report) report(c);
     };
+    // A subject with no edge to read (dark or textureless) is not scanned for: the lens holds
+    // still, and the faces are told why, until one shows.
+    {
+        Session wait(tap, setup, report, stop);
+        wait.status().mode = LiveAutofocusMode::Continuous;
+        Reading first;
+        double at = 0.0;
+        while (!stop) {
+            if (!wait.read(first, at)) return;
+            if (first.discPx || first.edges) break;
+            if (wait.status().state != LiveAutofocusState::Holding)
+                wait.state(LiveAutofocusState::Holding, kNoEdges);
+        }
+    }
     // The sharpness peak's shape, from the acquisition's last fit: near focus, where widths
     // read 0, how far the sharpness has fallen from its peak tells the defocus.
     std::optional<Peak> peak;
@@ -1009,11 +1026,13 @@ void runAutofocusContinuous(FrameTap& tap, const AfSetup& setup, const AfReport&
         while (recent.size() > static_cast<size_t>(framesPerSecond))
             recent.pop_front();
         if (!r.discPx) {
-            // Lost: a subject gone far out of focus is found again once it stays lost a second.
-            s.state(LiveAutofocusState::Holding,
-                    r.tooWide ? "the subject is far out of focus"
-                              : "too few confident edges in the subject to follow");
-            if (r.tooWide && ++lost > 30) {
+            // Lost: a subject gone far out of focus (edges found, all too wide to read) is found
+            // again once it stays lost a second; one without edges (dark, textureless) is held.
+            const char* why = r.edges ? "the subject is far out of focus" : kNoEdges;
+            if (st.state != LiveAutofocusState::Holding || st.reason != why)
+                s.state(LiveAutofocusState::Holding, why);
+            if (!r.edges) lost = 0;
+            if (r.edges && ++lost > framesPerSecond) {
                 lost = 0;
                 fitted = {};
                 if (focusOnce(tap, setup, acquiring, stop, &fitted).state ==
