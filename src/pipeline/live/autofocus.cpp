@@ -308,7 +308,8 @@ public:
         uint64_t before = 0;
         return request(to, before);
     }
-    // Whether the last frame read carried the lens position at its exposure.
+    // Whether the last frame read carried the lens position at its exposure (then moves may be
+    // asked for one a frame).
     bool lensTagged() const { return lensTagged_; }
 
     // Moves the lens and lets the frames in flight and the move itself pass.
@@ -409,8 +410,6 @@ public:
         out.push_back(smp);
         return true;
     }
-    // Whether moves may be asked for one a frame (the frames say where the lens was).
-    bool pipelined() const { return lensTagged_; }
     // Every frame read whose lens position is known: those that carry it, else the samples
     // taken at rest (recordFirst adds the first frame's).
     const std::vector<Sample>& frames() const { return frames_; }
@@ -535,11 +534,13 @@ double readingMissPx(double discPx) {
     return 1.0 + 0.06 * discPx;
 }
 
-// How badly focus at @p f explains @p samples: the widths read against the widths the lens
-// predicts there, each in its own miss, and the widths too wide to read that would have read.
-double misfit(const BlurModel& m, const std::vector<Sample>& samples, double f) {
+// How badly focus at @p f explains @p extra and the frames of @p subject: the widths read against
+// the widths the lens predicts there, each in its own miss, and the widths too wide to read that
+// would have read.
+double misfit(const BlurModel& m, const std::vector<Sample>& frames, int subject,
+              const Sample& extra, double f) {
     double cost = 0.0;
-    for (const Sample& k : samples) {
+    const auto add = [&](const Sample& k) {
         const double predicted = m.pxPerUnit(k.at) * std::abs(k.at - f);
         double e = 0.0;
         if (k.r.discPx) {
@@ -550,7 +551,10 @@ double misfit(const BlurModel& m, const std::vector<Sample>& samples, double f) 
             if (predicted < least) e = (least - predicted) / readingMissPx(least);
         }
         cost += e * e;
-    }
+    };
+    add(extra);
+    for (const Sample& k : frames)
+        if (k.subject == subject) add(k);
     return cost;
 }
 
@@ -580,11 +584,6 @@ std::optional<Peak> peakOf(const Sample* p) {
     const double least = c - b * b / (4 * a);
     if (!(least > 0)) return std::nullopt;
     return Peak{-b / (2 * a), 1.0 / least, std::sqrt(least / a)};
-}
-
-std::optional<double> vertexOf(const Sample* p) {
-    const std::optional<Peak> k = peakOf(p);
-    return k ? std::optional<double>(k->at) : std::nullopt;
 }
 
 // Lens data whose blur per dioptre the widths read confirm within this ratio (either way) stands.
@@ -783,10 +782,7 @@ LiveAutofocus focusOnce(FrameTap& tap, const AfSetup& setup, const AfReport& rep
             }
         }
         const auto explains = [&](double f) {
-            std::vector<Sample> same{anchor};
-            for (const Sample& k : s.frames())
-                if (k.subject == s.subjectId()) same.push_back(k);
-            return misfit(model, same, f);
+            return misfit(model, s.frames(), s.subjectId(), anchor, f);
         };
         std::vector<double> candidates{anchor.at};
         if (anchor.r.discPx) {
@@ -825,9 +821,11 @@ LiveAutofocus focusOnce(FrameTap& tap, const AfSetup& setup, const AfReport& rep
             if (candidates.size() == 2 &&
                 explains(candidates[1]) + kClearlyBetter < explains(candidates[0]))
                 return true;
-            if (s.pipelined() && samples.size() - first == 2 && anchor.subject == s.subjectId()) {
+            if (s.lensTagged() && samples.size() - first == 2 && anchor.subject == s.subjectId()) {
                 const Sample three[3] = {anchor, samples[first], samples[first + 1]};
-                const std::optional<double> v = vertexOf(three);
+                const std::optional<Peak> k = peakOf(three);
+                const std::optional<double> v =
+                    k ? std::optional<double>(k->at) : std::optional<double>();
                 const double lo = std::min(samples[first].at, samples[first + 1].at);
                 const double hi = std::max(samples[first].at, samples[first + 1].at);
                 // Trusted, as the full fit below, up to a quarter of the spacing beyond.
