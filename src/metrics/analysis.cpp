@@ -8,10 +8,12 @@
 #include <future>
 #include <thread>
 
+#include "cpu.h"
 #include "infocus/analysis.h"
 #include "infocus/blur.h"
 #include "infocus/luma.h"
 #include "infocus/metrics.h"
+#include "sharpness/kernels.h"
 
 namespace infocus {
 
@@ -41,13 +43,21 @@ RegionStatus classifyRegion(const Luma8& img, const Rect& rect, double noise, st
     // every second line, which keeps thousands of samples and a quarter of the histogram's cost
     // (the slowest loop of the analysis when it read every pixel).
     const int step = static_cast<int64_t>(r.w) * r.h >= kStatusSampleFrom ? 2 : 1;
+    const double n = static_cast<double>((r.w + step - 1) / step) * ((r.h + step - 1) / step);
+    if (detail::haveAvx2()) {
+        // Most regions are neither clipped nor dim, which their sum and top count show without
+        // the histogram the trimmed spread needs.
+        const detail::LevelSums levels = detail::levelSumsAvx2(img, r, step, kNoiseHighEnd);
+        if (static_cast<double>(levels.top) <= kClippedShare * n &&
+            noise <= kDimNoiseShare * static_cast<double>(levels.sum) / n)
+            return RegionStatus::Ok;
+    }
     std::array<uint32_t, 256> hist{};
     for (int y = r.y; y < r.y + r.h; y += step) {
         const uint8_t* row = img.row(y);
         for (int x = r.x; x < r.x + r.w; x += step)
             ++hist[row[x]];
     }
-    const double n = static_cast<double>((r.w + step - 1) / step) * ((r.h + step - 1) / step);
     double top = 0;
     for (int v = kNoiseHighEnd; v < 256; ++v)
         top += hist[v];

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The AVX2 kernels of the blur engine against the generic reference, kernel by kernel and through
-// the whole engine. Without AVX2 on this CPU there is nothing to compare: the executable exits 77,
-// which meson reports as skipped.
+// the whole engine; also the level and noise sums behind a region's status. Without AVX2 on this
+// CPU there is nothing to compare: the executable exits 77, which meson reports as skipped.
 #define CATCH_CONFIG_RUNNER
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -16,6 +16,7 @@
 #include "infocus/synth.h"
 #include "src/metrics/blur/kernels.h"
 #include "src/metrics/cpu.h"
+#include "src/metrics/sharpness/kernels.h"
 
 using namespace infocus;
 using namespace infocus::blur_test;
@@ -385,4 +386,59 @@ TEST_CASE("the AVX2 and the generic engine measure the same edges", "[blur][simd
             edges += static_cast<int>(a.size());
         }
     CHECK(edges >= 12);  // the frame has edges in most regions: the comparison is not empty
+}
+
+TEST_CASE("the level sums of a region's status equal a plain count", "[status][simd]") {
+    // Levels spread over the whole range, with runs at both ends: every byte compare and both
+    // sample parities of the last, backed-up window occur.
+    const int w = 301, h = 23;
+    std::vector<uint8_t> px(size_t(w) * h);
+    uint32_t state = 12345;
+    for (auto& p : px) {
+        state = state * 1664525u + 1013904223u;
+        const uint32_t r = state >> 24;
+        p = static_cast<uint8_t>(r < 16 ? 255 : r < 24 ? 254 : r < 32 ? 0 : r);
+    }
+    const Luma8 v{px.data(), w, h, w, nullptr};
+    int compared = 0;
+    for (int x0 : {0, 1, 2, 5})
+        for (int rw : {31, 32, 33, 63, 64, 65, 94, 95, 200, w - x0})
+            for (int step : {1, 2})
+                for (int topFrom : {0, 1, 128, 254, 255, 256}) {
+                    if (x0 + rw > w) continue;
+                    const Rect r{x0, 1, rw, h - 2};
+                    const auto a = detail::levelSumsGeneric(v, r, step, topFrom);
+                    const auto b = detail::levelSumsAvx2(v, r, step, topFrom);
+                    INFO("x0 " << x0 << " w " << rw << " step " << step << " top " << topFrom);
+                    CHECK(a.sum == b.sum);
+                    CHECK(a.top == b.top);
+                    ++compared;
+                }
+    CHECK(compared > 400);
+}
+
+TEST_CASE("the noise kernel counts the pixels at the ends as a plain count", "[noise][simd]") {
+    const int w = 211, h = 41;
+    std::vector<uint8_t> px(size_t(w) * h);
+    uint32_t state = 777;
+    for (auto& p : px) {
+        state = state * 1664525u + 1013904223u;
+        const uint32_t r = state >> 24;
+        p = static_cast<uint8_t>(r < 10 ? 255 : r < 14 ? 254 : r < 20 ? 1 : r < 26 ? 0 : r);
+    }
+    const Luma8 v{px.data(), w, h, w, nullptr};
+    for (int x0 : {1, 2, 7})
+        for (int rw : {32, 33, 50, 64, 97, w - 1 - x0})
+            for (int step : {1, 4}) {
+                const Rect a{x0, 1, rw, h - 2};
+                int64_t plain = 0;
+                for (int y = a.y; y < a.y + a.h; y += step)
+                    for (int x = a.x; x < a.x + a.w; ++x)
+                        plain += v.row(y)[x] <= kNoiseLowEnd || v.row(y)[x] >= kNoiseHighEnd;
+                int64_t counted = -1;
+                INFO("x0 " << x0 << " w " << rw << " step " << step);
+                CHECK(detail::simdImmerkaerSum(v, a, step, &counted) >= 0);
+                CHECK(counted == plain);
+                CHECK(plain > 0);
+            }
 }

@@ -67,6 +67,22 @@ DctSums simdDctSums(const Luma8& img, const Rect& valid);
 
 /// Σ |M ∗ I| of Immerkær's noise kernel M = [1 −2 1; −2 4 −2; 1 −2 1] over every @p rowStep-th
 /// row of @p valid (AVX2 only); −1 when the area is narrower than one vector. Exact integers.
-int64_t simdImmerkaerSum(const Luma8& img, const Rect& valid, int rowStep);
+/// Where @p atEnds is given, it receives the count of those rows' pixels at the ends of the range
+/// (≤ kNoiseLowEnd or ≥ kNoiseHighEnd).
+int64_t simdImmerkaerSum(const Luma8& img, const Rect& valid, int rowStep,
+                         int64_t* atEnds = nullptr);
+
+/// The levels of the pixels a region's status reads: their sum, and how many are at or above
+/// @p topFrom. Every @p step-th pixel (1 or 2) of every @p step-th row from the region's corner.
+struct LevelSums {
+    int64_t sum = 0, top = 0;
+};
+
+/// Reference LevelSums over @p region (inside the image).
+LevelSums levelSumsGeneric(const Luma8& img, const Rect& region, int step, int topFrom);
+
+/// levelSumsGeneric with AVX2 (check haveAvx2() first); regions narrower than 32 px are handed to
+/// the generic one. Exact integers: equal to it.
+LevelSums levelSumsAvx2(const Luma8& img, const Rect& region, int step, int topFrom);
 
 }  // namespace infocus::detail

@@ -472,8 +472,13 @@ bool simdSums(const Luma8& img, const Rect& a, FocusOperator op, OperatorSums& o
     return false;
 }
 
-int64_t simdImmerkaerSum(const Luma8& img, const Rect& a, int rowStep) {
+int64_t simdImmerkaerSum(const Luma8& img, const Rect& a, int rowStep, int64_t* atEnds) {
     if (a.w < 32) return -1;
+    // The centre pixels at the ends of the range, counted from the loads the kernel makes anyway.
+    const __m256i lowEnd = _mm256_set1_epi8(static_cast<char>(kNoiseLowEnd));
+    const __m256i highEnd = _mm256_set1_epi8(static_cast<char>(kNoiseHighEnd));
+    const __m256i oneByte = _mm256_set1_epi8(1), zero = _mm256_setzero_si256();
+    __m256i ends = zero;
     // M = [1 −2 1]ᵀ[1 −2 1]: per-row terms q = l − 2m + r, then q(y−1) − 2q(y) + q(y+1), in the
     // even/odd layout of rowTerms32 (one multiply-add forms l − 2m).
     const __m256i lowByte = _mm256_set1_epi16(0x00ff), ones = _mm256_set1_epi16(1);
@@ -501,18 +506,62 @@ int64_t simdImmerkaerSum(const Luma8& img, const Rect& a, int rowStep) {
                 _mm256_sub_epi16(_mm256_add_epi16(ue, de), _mm256_add_epi16(ce, ce)));
             __m256i no = _mm256_abs_epi16(
                 _mm256_sub_epi16(_mm256_add_epi16(uo, dO), _mm256_add_epi16(co, co)));
+            const __m256i v = load(c + x);
+            __m256i atEnd = _mm256_or_si256(_mm256_cmpeq_epi8(_mm256_min_epu8(v, lowEnd), v),
+                                            _mm256_cmpeq_epi8(_mm256_max_epu8(v, highEnd), v));
             if (masked) {
                 ne = _mm256_and_si256(ne, maskE);
                 no = _mm256_and_si256(no, maskO);
+                atEnd = _mm256_and_si256(atEnd, mask);
             }
             acc32 = _mm256_add_epi32(acc32, _mm256_madd_epi16(_mm256_add_epi16(ne, no), ones));
+            ends = _mm256_add_epi64(ends, _mm256_sad_epu8(_mm256_and_si256(atEnd, oneByte), zero));
         };
         for (int x = a.x; x < a.x + full; x += 32)
             window(x, false);
         if (full < a.w) window(end - 32, true);
         acc64 = widenAdd(acc64, acc32);
     }
+    if (atEnds) *atEnds = sum64(ends);
     return sum64(acc64);
+}
+
+LevelSums levelSumsAvx2(const Luma8& img, const Rect& region, int step, int topFrom) {
+    if (region.w < 32 || step < 1 || step > 2) return levelSumsGeneric(img, region, step, topFrom);
+    // Bytes that are samples: all of them, or every second one from the window's first byte.
+    const __m256i evenBytes = _mm256_set1_epi16(0x00ff);
+    const __m256i sampled = step == 1 ? _mm256_set1_epi8(-1) : evenBytes;
+    // The last window ends at the region's end; its first sample sits where the parity of the
+    // bytes it backs over says, and the bytes already read are masked off.
+    const int full = region.w / 32 * 32;
+    const int back = region.w - full;  // 0..31 bytes left after the whole windows
+    __m256i tail = tailMask(32 - back);
+    if (step == 2) {
+        const __m256i parity = (region.w % 2 == 0) ? evenBytes : _mm256_slli_epi16(evenBytes, 8);
+        tail = _mm256_and_si256(tail, parity);
+    }
+    const __m256i ones = _mm256_set1_epi8(1), zero = _mm256_setzero_si256();
+    const __m256i floor = _mm256_set1_epi8(static_cast<char>(std::clamp(topFrom, 0, 255)));
+    const bool noTop = topFrom > 255;
+    __m256i sum = zero, top = zero;
+    const auto window = [&](const uint8_t* p, __m256i keep) {
+        const __m256i v = _mm256_and_si256(load(p), keep);
+        sum = _mm256_add_epi64(sum, _mm256_sad_epu8(v, zero));
+        // v ≥ floor where max(v, floor) = v; a masked-off byte (0) counts only for floor 0.
+        const __m256i atTop = _mm256_and_si256(_mm256_cmpeq_epi8(_mm256_max_epu8(v, floor), v),
+                                               _mm256_and_si256(keep, ones));
+        top = _mm256_add_epi64(top, _mm256_sad_epu8(atTop, zero));
+    };
+    for (int y = region.y; y < region.y + region.h; y += step) {
+        const uint8_t* row = img.row(y) + region.x;
+        for (int x = 0; x < full; x += 32)
+            window(row + x, sampled);
+        if (back > 0) window(row + region.w - 32, tail);
+    }
+    LevelSums out;
+    out.sum = sum64(sum);
+    out.top = noTop ? 0 : sum64(top);
+    return out;
 }
 
 }  // namespace infocus::detail

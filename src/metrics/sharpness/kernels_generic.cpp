@@ -144,4 +144,16 @@ double genericSharpness(const Luma8& img, const Rect& region, FocusOperator op, 
     return scoreFromSums(op, sums, scaleOf(img), nv);
 }
 
+LevelSums levelSumsGeneric(const Luma8& img, const Rect& region, int step, int topFrom) {
+    LevelSums out;
+    for (int y = region.y; y < region.y + region.h; y += step) {
+        const uint8_t* row = img.row(y);
+        for (int x = region.x; x < region.x + region.w; x += step) {
+            out.sum += row[x];
+            out.top += row[x] >= topFrom;
+        }
+    }
+    return out;
+}
+
 }  // namespace infocus::detail

@@ -145,6 +145,16 @@ NoiseEstimate estimateNoise(const Luma8& img, bool simd) {
         if (count == 0) continue;
         // Noise clipped at an end of the range reads too low (0 where the whole cell is black
         // or white): a cell counts only where its sampled rows stay off the ends.
+        const double mostAtEnds = kNoiseEndShare * static_cast<double>(count);
+        if (simd && detail::haveAvx2()) {
+            int64_t atEnds = 0;
+            const int64_t sum = detail::simdImmerkaerSum(img, a, kRowStep, &atEnds);
+            if (sum >= 0) {
+                if (static_cast<double>(atEnds) <= mostAtEnds)
+                    sigmas.push_back(std::sqrt(M_PI / 2) * sum / (6.0 * count));
+                continue;
+            }
+        }
         long atEnds = 0;
         for (int y = a.y; y < a.y + a.h; y += kRowStep) {
             const uint8_t* c = img.row(y);
@@ -153,14 +163,7 @@ NoiseEstimate estimateNoise(const Luma8& img, bool simd) {
                 rowCount += c[x] <= kNoiseLowEnd || c[x] >= kNoiseHighEnd;
             atEnds += rowCount;
         }
-        if (atEnds > kNoiseEndShare * static_cast<double>(count)) continue;
-        if (simd && detail::haveAvx2()) {
-            const int64_t sum = detail::simdImmerkaerSum(img, a, kRowStep);
-            if (sum >= 0) {
-                sigmas.push_back(std::sqrt(M_PI / 2) * sum / (6.0 * count));
-                continue;
-            }
-        }
+        if (atEnds > mostAtEnds) continue;
         double sum = 0;
         for (int y = a.y; y < a.y + a.h; y += kRowStep) {
             const uint8_t* u = img.row(y - 1);
