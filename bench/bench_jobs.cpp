@@ -53,14 +53,17 @@ Status writeRecording(const std::string& dir) {
 }
 
 // Seconds to analyse every frame of @p dir as `infocus analyze --jobs @p jobs` does (16x9, blur
-// searched in full), or nothing on a failure.
-std::optional<double> runSeconds(const std::string& dir, unsigned jobs) {
+// searched in full), each frame's blur on @p threads (0: the job's share of the cores), or
+// nothing on a failure.
+std::optional<double> runSeconds(const std::string& dir, unsigned jobs, unsigned threads = 0) {
     StreamOptions stream;
     stream.jobs = jobs;
+    AnalysisOptions options;
+    options.threads = threads;
     uint64_t frames = 0;
     const auto t0 = std::chrono::steady_clock::now();
     const Status st = analyzeSource(
-        dir, AnalysisOptions{}, 0,
+        dir, options, 0,
         [&](const FrameAnalysis&) -> Status {
             ++frames;
             return {};
@@ -90,14 +93,18 @@ void benchJobs(const BenchOptions&, const RowSink& sink) {
         (void)runSeconds(rec, jobs);
         const auto one = runSeconds(rec, 1);
         const auto many = runSeconds(rec, jobs);
-        if (one && many) {
+        // One frame after another on one core: --jobs 1 shares each frame's blur over the cores.
+        const auto serial = runSeconds(rec, 1, 1);
+        if (one && many && serial) {
             row.ms = *many * 1e3 / kFrames;
             row.baselineMs = *one * 1e3 / kFrames;
-            char note[200];
+            char note[300];
             std::snprintf(note, sizeof note,
                           "%d-frame GREY recording, 16x9 regions with blur; %u jobs %.1f "
-                          "frames/s, 1 job %.1f frames/s; target 1.8x on 2 cores",
-                          kFrames, jobs, kFrames / *many, kFrames / *one);
+                          "frames/s, 1 job %.1f frames/s, 1 job on one core %.1f frames/s "
+                          "(%.2fx); target 1.8x on 2 cores",
+                          kFrames, jobs, kFrames / *many, kFrames / *one, kFrames / *serial,
+                          *serial / *many);
             row.note = note;
         } else {
             row.note = "the recording could not be analysed";
