@@ -155,15 +155,16 @@ void fillPictures(const Luma8& luma, const LiveOptions& o, PeakingMode mode, Liv
     std::vector<uint16_t> g(static_cast<size_t>(pw) * ph, 0);
     std::array<std::array<uint32_t, 511>, 4> parts{};
     for (int y = 1; y + 1 < ph; ++y) {
-        const uint8_t* up = preview->row(y - 1);
-        const uint8_t* mid = preview->row(y);
-        const uint8_t* dn = preview->row(y + 1);
-        uint16_t* gy = g.data() + static_cast<size_t>(y) * pw;
-        for (int x = 1; x + 1 < pw; ++x) {
-            const int v = std::abs(mid[x + 1] - mid[x - 1]) + std::abs(dn[x] - up[x]);
-            gy[x] = static_cast<uint16_t>(v);
-            ++parts[static_cast<size_t>(x & 3)][static_cast<size_t>(v)];
-        }
+        // Not aliased: the strengths of a row are vector work, apart from the counting.
+        const uint8_t* __restrict up = preview->row(y - 1);
+        const uint8_t* __restrict mid = preview->row(y);
+        const uint8_t* __restrict dn = preview->row(y + 1);
+        uint16_t* __restrict gy = g.data() + static_cast<size_t>(y) * pw;
+        for (int x = 1; x + 1 < pw; ++x)
+            gy[x] =
+                static_cast<uint16_t>(std::abs(mid[x + 1] - mid[x - 1]) + std::abs(dn[x] - up[x]));
+        for (int x = 1; x + 1 < pw; ++x)
+            ++parts[static_cast<size_t>(x & 3)][gy[x]];
     }
     std::array<uint32_t, 511> counts{};
     for (size_t v = 0; v < counts.size(); ++v)
@@ -187,11 +188,12 @@ void fillPictures(const Luma8& luma, const LiveOptions& o, PeakingMode mode, Liv
             for (const LiveRegion& r : s.regions)
                 sharpRegion.push_back(r.blurPx && r.confidence >= kConfident &&
                                       *r.blurPx <= s.cocPx);
+        const auto t = static_cast<uint16_t>(threshold);
         for (int y = 0; mode != PeakingMode::Coc && y < ph; ++y) {
-            uint8_t* out = mask->row(y);
-            const uint16_t* gy = g.data() + static_cast<size_t>(y) * pw;
+            uint8_t* __restrict out = mask->row(y);
+            const uint16_t* __restrict gy = g.data() + static_cast<size_t>(y) * pw;
             for (int x = 0; x < pw; ++x)
-                out[x] = gy[x] >= threshold ? 255 : 0;
+                out[x] = gy[x] >= t ? 255 : 0;
         }
         for (int y = 0; mode == PeakingMode::Coc && y < ph; ++y) {
             uint8_t* out = mask->row(y);
