@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The infocus executable: parses the command line and runs one subcommand. All work is in the
 // library; this file only decides the exit status.
+#include <malloc.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -102,9 +104,20 @@ int run(int argc, char** argv) {
     return infocus::cli::kExitUsage;
 }
 
+// Keeps freed blocks in the heap for the next frame. Every frame allocates and frees buffers of
+// the same sizes (luma, previews, masks, scratch); by default glibc maps such blocks anew above a
+// moving threshold and hands the heap's top back past twice it, so each frame faulted them in and
+// zeroed them again: a third of the live pipeline's time at 1080p60. `live` still gives free
+// pages back to the system every 10 s.
+void keepFreedBlocksForReuse() {
+    mallopt(M_MMAP_THRESHOLD, 64 << 20);
+    mallopt(M_TRIM_THRESHOLD, 128 << 20);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    keepFreedBlocksForReuse();
     // An exception that escapes a command (memory that runs out, a library that throws) is a
     // failure to report, not an abort that loses the reason and leaves a core file.
     const std::string label =
