@@ -87,10 +87,23 @@ std::vector<BlurEstimate> measureBlurRegions(const Luma8& luma, std::span<const 
                                              const BlurOptions& options = {});
 
 /// Regions a live camera's frame searches afresh (`infocus analyze --blur-search auto`), and the
-/// seconds those searches may take: a 1080p frame's blur then keeps up with the frame rate.
+/// seconds those searches may take: a 1080p frame's blur then keeps up with the frame rate. A
+/// camera faster than kLiveBlurSearchFps searches as many a second, not a frame (liveBlurSearch).
 inline constexpr int kLiveBlurSearchesPerFrame = 16;
 /// See kLiveBlurSearchesPerFrame.
 inline constexpr double kLiveBlurSearchBudgetS = 1.5e-3;
+/// The frame rate up to which each frame takes kLiveBlurSearchesPerFrame searches.
+inline constexpr double kLiveBlurSearchFps = 30.0;
+
+/// The searches a frame, and their seconds, of a live camera delivering @p fps frames a second
+/// (unknown: 0): kLiveBlurSearchesPerFrame within kLiveBlurSearchBudgetS up to
+/// kLiveBlurSearchFps, and above it as many a second, so that a region waits as long for its
+/// search on any camera and a faster one costs no more.
+struct LiveBlurSearch {
+    int searchesPerFrame = kLiveBlurSearchesPerFrame;
+    double budgetS = kLiveBlurSearchBudgetS;
+};
+LiveBlurSearch liveBlurSearch(double fps);
 
 /// measureBlurRegions over a stream of frames, at a bounded cost a frame. Each frame, a region's
 /// edges are measured again where they were found (their line fitted again only where that

@@ -17,8 +17,9 @@ namespace infocus {
 AnalysisOptions resolveForSource(const AnalysisOptions& options, const SourceInfo& info) {
     AnalysisOptions used = options;
     if (options.trackLiveCamera && info.liveCamera) {
-        used.blurSearchesPerFrame = kLiveBlurSearchesPerFrame;
-        used.blurSearchBudgetS = kLiveBlurSearchBudgetS;
+        const LiveBlurSearch search = liveBlurSearch(info.fps);
+        used.blurSearchesPerFrame = search.searchesPerFrame;
+        used.blurSearchBudgetS = search.budgetS;
     }
     if (options.transferFromSource && info.transfer.curve) used.transfer = *info.transfer.curve;
     return used;

@@ -179,3 +179,21 @@ TEST_CASE("coming into focus the tracker lags a search of every frame by at most
     CHECK(c.trackedRegions >= 0.80 * c.searchedRegions);
     CHECK(c.trackedNear >= 0.80 * c.searchedNear);
 }
+
+TEST_CASE("a live camera's searches are shared out by the second above 30 frames/s",
+          "[blur][tracker]") {
+    // Up to 30 frames/s (and where the rate is unknown): 16 searches within 1.5 ms a frame.
+    for (double fps : {0.0, 5.0, 15.0, 30.0}) {
+        const LiveBlurSearch s = liveBlurSearch(fps);
+        CHECK(s.searchesPerFrame == 16);
+        CHECK(s.budgetS == Approx(1.5e-3).epsilon(1e-12));
+    }
+    // Above it, 480 searches and 45 ms a second.
+    for (auto [fps, searches] : {std::pair{60.0, 8}, {120.0, 4}, {50.0, 10}, {1000.0, 1}}) {
+        const LiveBlurSearch s = liveBlurSearch(fps);
+        INFO(fps << " frames/s");
+        CHECK(s.searchesPerFrame == searches);
+        CHECK(s.budgetS * fps == Approx(0.045).epsilon(1e-12));
+    }
+    CHECK(liveBlurSearch(std::nan("")).searchesPerFrame == 16);
+}

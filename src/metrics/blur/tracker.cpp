@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Blur over a stream of frames: each region's edges measured again where they were found, a few
 // regions searched afresh a frame (docs/blur.md, "Streams").
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "internal.h"
 
@@ -132,6 +134,16 @@ std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<cons
         out[i] = blurFromEdges(edges, t.options);
     }
     ++t.frame;
+    return out;
+}
+
+LiveBlurSearch liveBlurSearch(double fps) {
+    LiveBlurSearch out;
+    if (!(fps > kLiveBlurSearchFps) || !std::isfinite(fps)) return out;
+    const double share = kLiveBlurSearchFps / fps;
+    out.searchesPerFrame =
+        std::max(1, static_cast<int>(std::lround(kLiveBlurSearchesPerFrame * share)));
+    out.budgetS = kLiveBlurSearchBudgetS * share;
     return out;
 }
 

@@ -655,8 +655,9 @@ Result<std::unique_ptr<LivePipeline>> openMeasuredBy(std::string_view source,
     used.analysis = resolveForSource(used.analysis, info);
     if (used.analysis.measureBlur && used.analysis.blurSearchesPerFrame == 0) {
         // A live view keeps up with the camera: blur is tracked within a budget a frame.
-        used.analysis.blurSearchesPerFrame = kLiveBlurSearchesPerFrame;
-        used.analysis.blurSearchBudgetS = kLiveBlurSearchBudgetS;
+        const LiveBlurSearch search = liveBlurSearch(info.fps);
+        used.analysis.blurSearchesPerFrame = search.searchesPerFrame;
+        used.analysis.blurSearchBudgetS = search.budgetS;
     }
     completeLens(used.lens, info);
     analyzer = Analyzer::create(used.analysis);
