@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "infocus/live.h"
+#include "src/pipeline/live/state.h"
 
 using namespace infocus;
 using namespace std::chrono_literals;
@@ -366,4 +367,36 @@ TEST_CASE("continuous autofocus follows a plane moving from 1 m to 0.5 m") {
     // waits out each move keeps under 10 %, the blur alone about 80 %.
     CHECK(share >= 0.7);
     p->stop();
+}
+
+TEST_CASE("the preview is the rounded mean of the frame pixels each of its pixels covers") {
+    // Odd sizes and every reduction from 1 to 7: the constant-factor rows and the general one.
+    const int w = 1931, h = 1087;
+    Image<uint8_t> frame(w, h);
+    uint32_t state = 99;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            state = state * 1664525u + 1013904223u;
+            frame.row(y)[x] = static_cast<uint8_t>(state >> 24);
+        }
+    for (int f = 1; f <= 7; ++f) {
+        LiveOptions o;
+        o.previewLongSide = (w + f - 1) / f;
+        LiveState s;
+        live_detail::fillPictures(frame.view(), o, PeakingMode::Off, s);
+        INFO("reduction " << f);
+        REQUIRE(s.preview);
+        REQUIRE(s.preview->width() == w / f);
+        REQUIRE(s.preview->height() == h / f);
+        int wrong = 0;
+        for (int y = 0; y < h / f; ++y)
+            for (int x = 0; x < w / f; ++x) {
+                int sum = 0;
+                for (int dy = 0; dy < f; ++dy)
+                    for (int dx = 0; dx < f; ++dx)
+                        sum += frame.row(y * f + dy)[x * f + dx];
+                wrong += s.preview->row(y)[x] != (sum + f * f / 2) / (f * f);
+            }
+        CHECK(wrong == 0);
+    }
 }

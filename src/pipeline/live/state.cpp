@@ -110,6 +110,33 @@ void fillRegionsAndOptics(const FrameAnalysis& a, const LiveOptions& o,
     }
 }
 
+namespace {
+
+// Row @p y of a preview F times smaller than @p luma: each pixel the rounded mean of the F × F
+// pixels it covers. With F a constant the sums stay in 16 bits and the division is a multiply:
+// vector work, where a division a pixel cost more than the rest of the preview.
+template <int F>
+void boxRow(const Luma8& luma, int y, int pw, uint16_t* __restrict sums, uint8_t* __restrict out) {
+    const int n = pw * F;
+    const uint8_t* __restrict first = luma.row(y * F);
+    for (int x = 0; x < n; ++x)
+        sums[x] = first[x];
+    for (int dy = 1; dy < F; ++dy) {
+        const uint8_t* __restrict in = luma.row(y * F + dy);
+        for (int x = 0; x < n; ++x)
+            sums[x] = static_cast<uint16_t>(sums[x] + in[x]);
+    }
+    constexpr unsigned kArea = F * F;
+    for (int x = 0; x < pw; ++x) {
+        unsigned sum = 0;
+        for (int dx = 0; dx < F; ++dx)
+            sum += sums[x * F + dx];
+        out[x] = static_cast<uint8_t>((sum + kArea / 2) / kArea);
+    }
+}
+
+}  // namespace
+
 void fillPictures(const Luma8& luma, const LiveOptions& o, PeakingMode mode, LiveState& s) {
     if (o.previewLongSide <= 0 || luma.empty()) return;
     const int longSide = std::max(luma.width, luma.height);
@@ -117,20 +144,28 @@ void fillPictures(const Luma8& luma, const LiveOptions& o, PeakingMode mode, Liv
     const int pw = luma.width / f, ph = luma.height / f;
     if (pw < 3 || ph < 3) return;
     auto preview = std::make_shared<Image<uint8_t>>(pw, ph);
-    // A box average: each preview pixel is the mean of the f × f frame pixels it covers. The f
-    // rows are summed first, a loop the compiler vectorises, then each f columns of the sums.
+    // A box average: each preview pixel is the mean of the f × f frame pixels it covers. Beyond
+    // boxRow's factors the f rows are summed first, a loop the compiler vectorises, then each f
+    // columns of the sums, their rounded mean looked up.
     const int area = f * f;
-    std::vector<int> columns(static_cast<size_t>(pw) * f);
-    // The rounded mean of every possible sum, looked up: a division per pixel cost more than
-    // the rest of the preview.
-    std::vector<uint8_t> mean(f > 1 ? static_cast<size_t>(255 * area + 1) : 0);
+    const bool general = f > 4;
+    std::vector<int> columns(general ? static_cast<size_t>(pw) * f : 0);
+    std::vector<uint8_t> mean(general ? static_cast<size_t>(255 * area + 1) : 0);
     for (size_t sum = 0; sum < mean.size(); ++sum)
         mean[sum] = static_cast<uint8_t>((static_cast<int>(sum) + area / 2) / area);
     // At full size (the window face) a copy: the average's division per pixel cost 15 ms a
     // 1080p frame.
     for (int y = 0; f == 1 && y < ph; ++y)
         std::copy_n(luma.row(y), pw, preview->row(y));
-    for (int y = 0; f > 1 && y < ph; ++y) {
+    if (f == 2 || f == 3 || f == 4) {
+        std::vector<uint16_t> sums(static_cast<size_t>(pw) * f);
+        for (int y = 0; y < ph; ++y) {
+            if (f == 2) boxRow<2>(luma, y, pw, sums.data(), preview->row(y));
+            if (f == 3) boxRow<3>(luma, y, pw, sums.data(), preview->row(y));
+            if (f == 4) boxRow<4>(luma, y, pw, sums.data(), preview->row(y));
+        }
+    }
+    for (int y = 0; general && y < ph; ++y) {
         std::fill(columns.begin(), columns.end(), 0);
         for (int dy = 0; dy < f; ++dy) {
             const uint8_t* in = luma.row(y * f + dy);
