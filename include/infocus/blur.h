@@ -113,8 +113,8 @@ LiveBlurSearch liveBlurSearch(double fps);
 /// first any not searched for 2n / searchesPerFrame frames (of n regions), then those that lost
 /// an edge, then those searched longest ago, so that a new edge in focus is seen within about
 /// that many frames. On an unchanged frame it gives measureBlurRegions' results exactly.
-/// The first frame, a change of frame size or regions, and reset() search every region. Not
-/// thread-safe.
+/// The first frame, a change of frame size or regions, and reset() search every region, within
+/// @p searchBudgetS where it is above 0 (the rest first on the frames after). Not thread-safe.
 class BlurTracker {
 public:
     explicit BlurTracker(const BlurOptions& options = {}, int searchesPerFrame = 16,

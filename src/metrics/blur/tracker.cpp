@@ -75,9 +75,12 @@ std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<cons
         searched[i] = 1;
     };
     if (!same) {
-        // The first frame: every region, in order.
-        for (size_t i = 0; i < n; ++i)
+        // The first frame: every region in order, within the budget where there is one (a 4K
+        // frame's full search took 40 ms); those left wait as due, searched first from the next.
+        for (size_t i = 0; i < n; ++i) {
+            if (i > 0 && t.searchBudgetS > 0.0 && elapsedS() >= t.searchBudgetS) break;
             search(i, i + 1);
+        }
     } else {
         // This frame's searches, at most searchesPerFrame: first the regions not searched for
         // 2n / searchesPerFrame frames, then those that lost an edge, then those searched
