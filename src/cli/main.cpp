@@ -107,8 +107,8 @@ int run(int argc, char** argv) {
 // Keeps freed blocks in the heap for the next frame. Every frame allocates and frees buffers of
 // the same sizes (luma, previews, masks, scratch); by default glibc maps such blocks anew above a
 // moving threshold and hands the heap's top back past twice it, so each frame faulted them in and
-// zeroed them again: a third of the live pipeline's time at 1080p60. `live` still gives free
-// pages back to the system every 10 s.
+// zeroed them again, at a cost greater than measuring the frame. `live` still gives free pages
+// back to the system every 10 s.
 void keepFreedBlocksForReuse() {
     mallopt(M_MMAP_THRESHOLD, 64 << 20);
     mallopt(M_TRIM_THRESHOLD, 128 << 20);

@@ -75,8 +75,9 @@ std::vector<BlurEstimate> BlurTracker::measure(const Luma8& luma, std::span<cons
         searched[i] = 1;
     };
     if (!same) {
-        // The first frame: every region in order, within the budget where there is one (a 4K
-        // frame's full search took 40 ms); those left wait as due, searched first from the next.
+        // The first frame: every region in order, within the budget where there is one, so that
+        // a large stream's first frame is not its slowest; those left wait as due, searched
+        // first from the next frame on.
         for (size_t i = 0; i < n; ++i) {
             if (i > 0 && t.searchBudgetS > 0.0 && elapsedS() >= t.searchBudgetS) break;
             search(i, i + 1);
