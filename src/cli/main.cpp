@@ -108,10 +108,14 @@ int run(int argc, char** argv) {
 // the same sizes (luma, previews, masks, scratch); by default glibc maps such blocks anew above a
 // moving threshold and hands the heap's top back past twice it, so each frame faulted them in and
 // zeroed them again, at a cost greater than measuring the frame. `live` still gives free pages
-// back to the system every 10 s.
+// back to the system every 10 s. All threads share one arena: with one for each thread (up to 8
+// a core) the blocks a frame's short-lived workers freed stayed resident in arenas the next frame
+// might not take, and a long `live` run's memory crept up in steps. Each thread allocates a few
+// blocks a frame, too few for the shared lock to be contended.
 void keepFreedBlocksForReuse() {
     mallopt(M_MMAP_THRESHOLD, 64 << 20);
     mallopt(M_TRIM_THRESHOLD, 128 << 20);
+    mallopt(M_ARENA_MAX, 1);
 }
 
 }  // namespace
