@@ -388,17 +388,29 @@ TEST_CASE("the AVX2 and the generic engine measure the same edges", "[blur][simd
     CHECK(edges >= 12);  // the frame has edges in most regions: the comparison is not empty
 }
 
+namespace {
+
+// @p n pseudo-random levels from @p seed, each passed through @p level: a test sets how often
+// the ends of the range occur.
+template <typename Level>
+std::vector<uint8_t> randomLevels(size_t n, uint32_t seed, Level level) {
+    std::vector<uint8_t> px(n);
+    for (auto& p : px) {
+        seed = seed * 1664525u + 1013904223u;
+        p = static_cast<uint8_t>(level(seed >> 24));
+    }
+    return px;
+}
+
+}  // namespace
+
 TEST_CASE("the level sums of a region's status equal a plain count", "[status][simd]") {
     // Levels spread over the whole range, with runs at both ends: every byte compare and both
     // sample parities of the last, backed-up window occur.
     const int w = 301, h = 23;
-    std::vector<uint8_t> px(size_t(w) * h);
-    uint32_t state = 12345;
-    for (auto& p : px) {
-        state = state * 1664525u + 1013904223u;
-        const uint32_t r = state >> 24;
-        p = static_cast<uint8_t>(r < 16 ? 255 : r < 24 ? 254 : r < 32 ? 0 : r);
-    }
+    const std::vector<uint8_t> px = randomLevels(size_t(w) * h, 12345, [](uint32_t r) {
+        return r < 16 ? 255u : r < 24 ? 254u : r < 32 ? 0u : r;
+    });
     const Luma8 v{px.data(), w, h, w, nullptr};
     int compared = 0;
     for (int x0 : {0, 1, 2, 5})
@@ -419,13 +431,9 @@ TEST_CASE("the level sums of a region's status equal a plain count", "[status][s
 
 TEST_CASE("the noise kernel counts the pixels at the ends as a plain count", "[noise][simd]") {
     const int w = 211, h = 41;
-    std::vector<uint8_t> px(size_t(w) * h);
-    uint32_t state = 777;
-    for (auto& p : px) {
-        state = state * 1664525u + 1013904223u;
-        const uint32_t r = state >> 24;
-        p = static_cast<uint8_t>(r < 10 ? 255 : r < 14 ? 254 : r < 20 ? 1 : r < 26 ? 0 : r);
-    }
+    const std::vector<uint8_t> px = randomLevels(size_t(w) * h, 777, [](uint32_t r) {
+        return r < 10 ? 255u : r < 14 ? 254u : r < 20 ? 1u : r < 26 ? 0u : r;
+    });
     const Luma8 v{px.data(), w, h, w, nullptr};
     for (int x0 : {1, 2, 7})
         for (int rw : {32, 33, 50, 64, 97, w - 1 - x0})
